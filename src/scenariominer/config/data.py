@@ -1,0 +1,60 @@
+"""Configuration of ingestion, preprocessing and the store."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class PreprocessConfig:
+    """Gap interpolation and Savitzky-Golay smoothing (braking paper, section III-A).
+
+    Attributes:
+        smooth_window_s: Savitzky-Golay window length in seconds, converted to the nearest odd
+            number of samples at the log's frame rate (11 samples at 10 Hz, 25 at 25 Hz).
+            One second is long enough to remove the ~0.1 m frame-to-frame jitter of 3D box
+            annotations yet short enough that a hard braking manoeuvre (about 0.5 s to build
+            up -6 m/s^2) keeps its onset: features lasting longer than roughly a third of the
+            window survive a cubic fit, whereas spline fitting would flatten them.
+        smooth_polyorder: polynomial order of the filter; 3 keeps a velocity step's shape
+            (a quadratic would round it off more, a higher order lets jitter back in).
+        max_gap_s: gaps inside a track's lifespan up to this length are interpolated linearly;
+            longer gaps stay empty (the object was most likely occluded and re-identified).
+        smooth_yaw: also smooth the heading (after unwrapping) with the same filter.
+    """
+
+    smooth_window_s: float = 1.0
+    smooth_polyorder: int = 3
+    max_gap_s: float = 2.0
+    smooth_yaw: bool = True
+
+
+@dataclass(frozen=True)
+class IngestConfig:
+    """How raw datasets are cut into logs.
+
+    Attributes:
+        highd_window_s: highD recordings are cut into windows of this many seconds (default 15 s,
+            about the length of an Argoverse 2 log).
+        highd_ego_ids: highD vehicle ids to treat as ego; empty means every vehicle whose track
+            covers a full window.
+        highd_max_egos_per_recording: cap on egos per recording (0 = no cap) to bound store size.
+        min_track_frames: tracks with fewer observations are dropped with a note.
+    """
+
+    highd_window_s: float = 15.0
+    highd_ego_ids: tuple[int, ...] = ()
+    highd_max_egos_per_recording: int = 20
+    min_track_frames: int = 2
+
+
+@dataclass(frozen=True)
+class StoreConfig:
+    """Where the scenario store lives.
+
+    Attributes:
+        path: store directory; empty means the per-user data directory
+            (``platformdirs.user_data_dir("scenariominer")/store``).
+    """
+
+    path: str = ""
