@@ -22,6 +22,8 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from scenariominer.config.data import IngestConfig, PreprocessConfig, StoreConfig
+from scenariominer.config.llm import EmbeddingConfig, LLMConfig
+from scenariominer.config.tags import TagConfig
 
 __all__ = [
     "Config",
@@ -46,6 +48,9 @@ class Config:
     preprocess: PreprocessConfig = field(default_factory=PreprocessConfig)
     ingest: IngestConfig = field(default_factory=IngestConfig)
     store: StoreConfig = field(default_factory=StoreConfig)
+    llm: LLMConfig = field(default_factory=LLMConfig)
+    embedding: EmbeddingConfig = field(default_factory=EmbeddingConfig)
+    tags: TagConfig = field(default_factory=TagConfig)
 
 
 T = TypeVar("T")

@@ -39,10 +39,13 @@ class IngestConfig:
         highd_ego_ids: highD vehicle ids to treat as ego; empty means every vehicle whose track
             covers a full window.
         highd_max_egos_per_recording: cap on egos per recording (0 = no cap) to bound store size.
+        highd_radius_m: other vehicles appear in a highD window while within this distance of the
+            ego (a sensor-like range; highD covers about 420 m of road).
         min_track_frames: tracks with fewer observations are dropped with a note.
     """
 
     highd_window_s: float = 15.0
+    highd_radius_m: float = 150.0
     highd_ego_ids: tuple[int, ...] = ()
     highd_max_egos_per_recording: int = 20
     min_track_frames: int = 2

@@ -124,7 +124,8 @@ class Log:
     @property
     def t_s(self) -> FloatArray:
         """``(T,)`` seconds since the first timestamp."""
-        return (self.timestamps_ns - self.timestamps_ns[0]).astype(np.float64) * 1e-9
+        t: FloatArray = (self.timestamps_ns - self.timestamps_ns[0]).astype(np.float64) * 1e-9
+        return t
 
     @property
     def duration_s(self) -> float:
@@ -141,7 +142,8 @@ class Log:
     @property
     def speed_mps(self) -> FloatArray:
         """``(N, T)`` ground speed, metres per second."""
-        return np.hypot(self.vx_mps, self.vy_mps)
+        speed: FloatArray = np.hypot(self.vx_mps, self.vy_mps)
+        return speed
 
     @property
     def has_map(self) -> bool:
@@ -178,7 +180,7 @@ class Log:
         """Return the timestamps ``[start, stop)``; tracks absent from the slice are dropped."""
         sl = slice(start, stop)
         valid = self.valid[:, sl]
-        keep = valid.any(axis=1)
+        keep: BoolArray = np.asarray(valid.any(axis=1), dtype=bool)
         keep[self.ego_index] = True
         changes: dict[str, Any] = {name: getattr(self, name)[keep, sl] for name in STATE_FIELDS}
         changes.update(
@@ -325,7 +327,9 @@ def build_log(
     if ego_track_id is None:
         ego_rows = np.flatnonzero(cat == EGO_CATEGORY)
         if ego_rows.size == 0:
-            raise LogFormatError(source, "no ego track: no row has category EGO_VEHICLE and no ego id was given")
+            raise LogFormatError(
+                source, "no ego track: no row has category EGO_VEHICLE and no ego id was given"
+            )
         ego_ids = np.unique(tid[ego_rows])
         if ego_ids.size > 1:
             raise LogFormatError(source, f"several tracks have category EGO_VEHICLE: {ego_ids[:5].tolist()}")
@@ -360,7 +364,7 @@ def build_log(
             raise LogFormatError(
                 source,
                 f"{int(conflicting.sum())} duplicate (track, timestamp) row(s) with different values, "
-                f"e.g. track {tid[i]!r} at timestamp_ns={int(ts_i[i])}",
+                f"e.g. track {str(tid[i])!r} at timestamp_ns={int(ts_i[i])}",
             )
         keep = np.concatenate([[True], ~dup])
         notes.append(f"collapsed {int(dup.sum())} exact duplicate row(s)")
@@ -375,7 +379,9 @@ def build_log(
     track_cat = cat[first]
     if np.any(cat != track_cat[track_of_row]):
         i = int(np.flatnonzero(cat != track_cat[track_of_row])[0])
-        raise LogFormatError(source, f"track {tid[i]!r} changes category ({track_cat[track_of_row[i]]} → {cat[i]})")
+        raise LogFormatError(
+            source, f"track {str(tid[i])!r} changes category ({track_cat[track_of_row[i]]} → {cat[i]})"
+        )
 
     # One-frame tracks.
     counts = np.diff(np.append(track_start, tid.size))
@@ -423,7 +429,7 @@ def build_log(
         "x_m": dense(cols["x_m"], 0.0),
         "y_m": dense(cols["y_m"], 0.0),
         "z_m": dense(cols.get("z_m"), 0.0),
-        "yaw_rad": dense(np.angle(np.exp(1j * cols["yaw_rad"])), 0.0),
+        "yaw_rad": dense(wrap_angle(cols["yaw_rad"]), 0.0),
         "length_m": dense(cols["length_m"], 0.0),
         "width_m": dense(cols["width_m"], 0.0),
         "height_m": dense(cols.get("height_m"), 1.5),
@@ -455,7 +461,7 @@ def build_log(
         map_dir=map_dir,
         source_hash=source_hash,
         notes=tuple(notes),
-        **state,
+        **state,  # type: ignore[arg-type]  # exactly the float state fields
     )
 
 
@@ -484,4 +490,11 @@ def time_derivative(values: FloatArray, t_s: FloatArray) -> FloatArray:
     out[~finite] = np.nan
     # An isolated observation (no finite neighbour) has no measurable motion.
     out[finite & ~np.isfinite(out)] = 0.0
+    return out
+
+
+def wrap_angle(angle_rad: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Wrap angles to (-pi, pi] (so -pi becomes +pi), elementwise; NaN stays NaN."""
+    out: NDArray[np.float64] = np.angle(np.exp(1j * np.asarray(angle_rad, dtype=np.float64)))
+    out[out <= -np.pi] = np.pi
     return out

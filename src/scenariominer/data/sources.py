@@ -95,7 +95,9 @@ def default_readers() -> list[LogReader]:
     return [Av2Reader(), HighDReader(), TabularReader()]
 
 
-def discover_sources(paths: Iterable[str | Path], readers: Sequence[LogReader] | None = None) -> list[LogSource]:
+def discover_sources(
+    paths: Iterable[str | Path], readers: Sequence[LogReader] | None = None
+) -> list[LogSource]:
     """Find every source under ``paths`` with the first reader that recognises it.
 
     Raises:

@@ -1,0 +1,59 @@
+"""Configuration: defaults are the papers' values; TOML and environment override them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from scenariominer.config import Config, ConfigError, load_config
+
+
+def test_defaults_without_file() -> None:
+    cfg = load_config(environ={})
+    assert cfg == Config()
+    assert cfg.preprocess.smooth_window_s == 1.0
+    assert cfg.ingest.highd_window_s == 15.0
+
+
+def test_toml_values_override_defaults(tmp_path: Path) -> None:
+    p = tmp_path / "c.toml"
+    p.write_text("[preprocess]\nsmooth_window_s = 0.7\n[ingest]\nhighd_ego_ids = [3, 4]\n")
+    cfg = load_config(p, environ={})
+    assert cfg.preprocess.smooth_window_s == 0.7
+    assert cfg.ingest.highd_ego_ids == (3, 4)
+
+
+def test_environment_overrides_file(tmp_path: Path) -> None:
+    p = tmp_path / "c.toml"
+    p.write_text("[preprocess]\nsmooth_window_s = 0.7\n")
+    cfg = load_config(
+        p,
+        environ={
+            "SCENARIOMINER__PREPROCESS__SMOOTH_WINDOW_S": "1.5",
+            "SCENARIOMINER__PREPROCESS__SMOOTH_YAW": "false",
+        },
+    )
+    assert cfg.preprocess.smooth_window_s == 1.5
+    assert cfg.preprocess.smooth_yaw is False
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("[preprocess]\nsmooth_window = 1\n", r"unknown key\(s\) \['smooth_window'\] in \[preprocess\]"),
+        ("[nonsense]\na = 1\n", r"unknown key\(s\) \['nonsense'\]"),
+        ("[preprocess]\nsmooth_polyorder = 'three'\n", "preprocess.smooth_polyorder must be an integer"),
+        ("[preprocess\n", "not valid TOML"),
+    ],
+)
+def test_bad_files_name_the_key(tmp_path: Path, text: str, message: str) -> None:
+    p = tmp_path / "c.toml"
+    p.write_text(text)
+    with pytest.raises(ConfigError, match=message):
+        load_config(p, environ={})
+
+
+def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
+    with pytest.raises(ConfigError, match="does not exist"):
+        load_config(tmp_path / "nope.toml", environ={})
