@@ -1,0 +1,125 @@
+"""Configuration of rule-based tagging and key-object identification (braking paper, III-B, III-C, IV-B).
+
+Values the braking paper states are its defaults (veering/turning angles, TTC and overlap
+horizons, distance bands). Where it defers to Guo et al. (2023) without numbers (standstill
+speed, acceleration thresholds, the expansion margin of VERY_CLOSE), the defaults below are
+chosen for 10 Hz annotated logs after Savitzky-Golay smoothing and the reasoning is given per field.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class KeyIdentConfig:
+    """How key-object candidates (III-C) are merged into braking events.
+
+    Attributes:
+        max_gap_s: two candidate timestamps of the same object closer than this (seconds, measured
+            between the timestamps) belong to one event; bridges a few frames where a tag flickers.
+        min_duration_s: events shorter than this (seconds from first to last candidate timestamp)
+            are dropped; 0 keeps every candidate, as in the paper.
+    """
+
+    max_gap_s: float = 1.0
+    min_duration_s: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.max_gap_s < 0 or self.min_duration_s < 0:
+            raise ValueError("tags.keyident: max_gap_s and min_duration_s must be >= 0")
+
+
+@dataclass(frozen=True)
+class TagConfig:
+    """Thresholds of the rule-based activity and interaction tags (Table I).
+
+    Attributes:
+        standing_speed_mps: below this ground speed (m/s) an actor is STANDING_STILL; 0.3 m/s sits
+            above the residual speed of a parked car's smoothed box jitter (~0.05-0.15 m/s) and below
+            a slow pedestrian's walk (~1 m/s).
+        reversing_speed_mps: REVERSING needs the velocity component along the heading (m/s) to be
+            below minus this value, so a standing box with a jittering heading is not reversing.
+        accel_enter_mps2: ACCELERATING starts when the acceleration along the heading (m/s^2)
+            exceeds this; 0.5 m/s^2 is a clearly intended speed change, above smoothed annotation noise.
+        accel_exit_mps2: ... and lasts until it drops below this (hysteresis, m/s^2).
+        decel_enter_mps2: DECELERATING starts when the acceleration along the heading falls below
+            minus this value (m/s^2); light braking is about 1 m/s^2, coasting about 0.3 m/s^2.
+        decel_exit_mps2: ... and lasts until it rises above minus this value (hysteresis, m/s^2).
+        accel_window_s: the acceleration along the heading is averaged over a centred window of
+            this many seconds before thresholding, i.e. the mean speed change over the window. The
+            second derivative of a smoothed track is noisy (about 0.35 m/s^2 for 5 cm of position
+            jitter at 10 Hz); one second of averaging brings that to about 0.15 m/s^2, while a
+            real brake or launch lasts longer than that.
+        min_segment_s: longitude and turn-direction segments shorter than this (seconds) are
+            absorbed by the preceding segment (or the following one at the start of a track).
+        turn_min_yaw_rate_radps: a moving actor is in a turning segment while the magnitude of its
+            yaw rate (rad/s) exceeds this; the accumulated heading change over the segment decides
+            veering or turning. 0.02 rad/s is a 1 km radius at 20 m/s.
+        veer_angle_rad: accumulated heading change (rad) from which a segment is VEERING (paper: 0.05).
+        turn_angle_rad: accumulated heading change (rad) above which it is TURNING (paper: 0.17).
+        ttc_horizon_s: CTRV prediction horizon (seconds); TTC beyond it is CollisionTag NO (paper: 3 s).
+        ttc_step_s: time step of the CTRV prediction (seconds); also the TTC resolution.
+        ttc_high_s: TTC below this (seconds) is CollisionTag HIGH (paper: 1.5 s); up to the horizon LOW.
+        ctrv_max_yaw_rate_radps: the yaw rate used for prediction is clipped to ± this (rad/s); a car's
+            tightest urban turn is about 0.8 rad/s, larger values are heading noise of small objects.
+        distance_margin_m: each box is enlarged by this margin on every side (metres) for VERY_CLOSE;
+            two boxes within about twice the margin (a door's width) are very close.
+        distance_close_m: box distance (metres) below which DistanceTag is CLOSE (paper: 10 m).
+        distance_far_m: box distance (metres) above which DistanceTag is FAR (paper: 50 m); between MEDIUM.
+        overlap_high_s: window (seconds) of recorded future boxes for TrajOverlapTag HIGH (paper: 1.5 s).
+        overlap_low_s: window (seconds) for TrajOverlapTag LOW (paper: 3 s).
+        keyident: merging of key-object candidates into events.
+    """
+
+    standing_speed_mps: float = 0.3
+    reversing_speed_mps: float = 0.5
+    accel_enter_mps2: float = 0.5
+    accel_exit_mps2: float = 0.25
+    decel_enter_mps2: float = 0.5
+    decel_exit_mps2: float = 0.25
+    accel_window_s: float = 1.0
+    min_segment_s: float = 0.3
+    turn_min_yaw_rate_radps: float = 0.02
+    veer_angle_rad: float = 0.05
+    turn_angle_rad: float = 0.17
+    ttc_horizon_s: float = 3.0
+    ttc_step_s: float = 0.1
+    ttc_high_s: float = 1.5
+    ctrv_max_yaw_rate_radps: float = 1.0
+    distance_margin_m: float = 0.5
+    distance_close_m: float = 10.0
+    distance_far_m: float = 50.0
+    overlap_high_s: float = 1.5
+    overlap_low_s: float = 3.0
+    keyident: KeyIdentConfig = field(default_factory=KeyIdentConfig)
+
+    def __post_init__(self) -> None:
+        problems = []
+        if not 0 <= self.accel_exit_mps2 <= self.accel_enter_mps2:
+            problems.append("need 0 <= accel_exit_mps2 <= accel_enter_mps2")
+        if not 0 <= self.decel_exit_mps2 <= self.decel_enter_mps2:
+            problems.append("need 0 <= decel_exit_mps2 <= decel_enter_mps2")
+        if not 0 <= self.veer_angle_rad <= self.turn_angle_rad:
+            problems.append("need 0 <= veer_angle_rad <= turn_angle_rad")
+        if not 0 < self.ttc_step_s <= self.ttc_horizon_s:
+            problems.append("need 0 < ttc_step_s <= ttc_horizon_s")
+        if not 0 <= self.ttc_high_s <= self.ttc_horizon_s:
+            problems.append("need 0 <= ttc_high_s <= ttc_horizon_s")
+        if not 0 <= self.distance_close_m <= self.distance_far_m:
+            problems.append("need 0 <= distance_close_m <= distance_far_m")
+        if not 0 <= self.overlap_high_s <= self.overlap_low_s:
+            problems.append("need 0 <= overlap_high_s <= overlap_low_s")
+        for name in (
+            "standing_speed_mps",
+            "reversing_speed_mps",
+            "accel_window_s",
+            "min_segment_s",
+            "turn_min_yaw_rate_radps",
+            "ctrv_max_yaw_rate_radps",
+            "distance_margin_m",
+        ):
+            if getattr(self, name) < 0:
+                problems.append(f"{name} must be >= 0")
+        if problems:
+            raise ValueError("tags: " + "; ".join(problems))
