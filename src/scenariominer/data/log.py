@@ -495,6 +495,8 @@ def time_derivative(values: FloatArray, t_s: FloatArray) -> FloatArray:
 
 def wrap_angle(angle_rad: NDArray[np.float64]) -> NDArray[np.float64]:
     """Wrap angles to (-pi, pi] (so -pi becomes +pi), elementwise; NaN stays NaN."""
-    out: NDArray[np.float64] = np.angle(np.exp(1j * np.asarray(angle_rad, dtype=np.float64)))
+    a = np.asarray(angle_rad, dtype=np.float64)
+    inside = (a > -np.pi) & (a <= np.pi)
+    out: NDArray[np.float64] = np.where(inside, a, np.angle(np.exp(1j * a)))
     out[out <= -np.pi] = np.pi
     return out
