@@ -16,6 +16,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from scenariominer.config import Config, load_config
 from scenariominer.data.log import LogFormatError
@@ -24,12 +25,17 @@ from scenariominer.data.sources import LogReader, LogSource, discover_sources, r
 from scenariominer.progress import NullProgress, Progress, step
 from scenariominer.store import ScenarioStore, StoreInfo, resolve_store_path
 
+if TYPE_CHECKING:
+    from scenariominer.data.synth import SynthResult
+
 __all__ = [
     "IngestReport",
     "SourceResult",
+    "find_sample_av2",
     "info",
     "ingest",
     "open_store",
+    "synth",
 ]
 
 
@@ -187,3 +193,42 @@ def ingest(
 def info(store: ScenarioStore) -> StoreInfo:
     """Summary of what a store holds."""
     return store.info()
+
+
+def synth(
+    out_dir: str | Path,
+    n: int,
+    *,
+    seed: int = 0,
+    categories: Sequence[str] | None = None,
+    progress: Progress | None = None,
+) -> SynthResult:
+    """Write ``n`` labelled synthetic scenarios in the Argoverse 2 format plus ``labels.csv``.
+
+    See :func:`scenariominer.data.synth.generate`; categories cycle through ``categories``
+    (all of cut_in, lead_brake, approach_stop, ped_crossing, obj_crossing, left_oppo,
+    right_ped, not_relevant by default).
+    """
+    from scenariominer.data.synth import generate
+
+    if n < 1:
+        raise ValueError(f"n must be at least 1, got {n}")
+    progress = progress or NullProgress()
+    with step(progress, "synthesise", n) as bar:
+        return generate(
+            Path(out_dir), n, seed=seed, categories=categories, progress=lambda _done: bar.advance(1)
+        )
+
+
+def find_sample_av2() -> Path | None:
+    """The Argoverse 2 sample data shipped beside a source checkout (``../shared/data/av2``), if any.
+
+    Looked up relative to the current directory and to the package's source tree.
+    """
+    here = Path(__file__).resolve()
+    candidates = [Path.cwd().parent / "shared" / "data" / "av2", Path.cwd() / "shared" / "data" / "av2"]
+    candidates += [parent.parent / "shared" / "data" / "av2" for parent in here.parents[:4]]
+    for c in candidates:
+        if c.is_dir() and any(c.glob("*/city_SE3_egovehicle.feather")):
+            return c
+    return None

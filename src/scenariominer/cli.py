@@ -6,6 +6,7 @@ No pipeline logic lives here.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Annotated
 
@@ -41,12 +42,12 @@ def _config(path: Path | None) -> Config:
     try:
         return load_config(path)
     except ConfigError as exc:
-        err_console.print(f"[red]config error:[/red] {exc}")
+        err_console.print(f"[red]config error:[/red] {exc}", soft_wrap=True)
         raise typer.Exit(2) from None
 
 
 def _fail(exc: Exception) -> typer.Exit:
-    err_console.print(f"[red]error:[/red] {exc}")
+    err_console.print(f"[red]error:[/red] {exc}", soft_wrap=True)
     return typer.Exit(1)
 
 
@@ -74,12 +75,18 @@ def render_store_info(info: StoreInfo, title: str = "Scenario store") -> None:
 def render_ingest_report(report: api.IngestReport) -> None:
     """Print what an ingestion run did, failures first."""
     for failed in report.failed:
-        err_console.print(f"[red]failed[/red] {failed.key}: {failed.error}")
-    notes = [n for r in report.sources for n in r.notes]
-    for note in notes[:10]:
-        console.print(f"[yellow]repaired[/yellow] {note}")
-    if len(notes) > 10:
-        console.print(f"[yellow]... {len(notes) - 10} more repair note(s)[/yellow]")
+        err_console.print(f"[red]failed[/red] {failed.key}: {failed.error}", soft_wrap=True)
+    # Repairs are grouped by kind (digits and examples stripped) so a large batch stays readable.
+    kinds: dict[str, list[str]] = {}
+    for r in report.sources:
+        for note in r.notes:
+            log_id, _, text = note.partition(": ")
+            kind = re.sub(r"\(e\.g\..*\)", "", re.sub(r"\d+", "N", text)).strip()
+            kinds.setdefault(kind, []).append(log_id)
+    for kind, logs in sorted(kinds.items()):
+        console.print(
+            f"[yellow]repaired[/yellow] {len(set(logs))} log(s): {kind} (e.g. {logs[0]})", soft_wrap=True
+        )
     fps = report.n_frames_ingested / report.seconds if report.seconds > 0 else 0.0
     console.print(
         f"ingested {report.n_ingested} source(s) ({report.n_logs_ingested} logs, "
@@ -126,6 +133,66 @@ def info(store: StoreOpt = None, config: ConfigOpt = None) -> None:
         render_store_info(api.info(api.open_store(store, cfg)))
     except StoreError as exc:
         raise _fail(exc) from None
+
+
+@app.command()
+def synth(
+    out: Annotated[
+        Path, typer.Option("--out", "-o", help="Output folder (one AV2 log folder per scenario).")
+    ],
+    n: Annotated[int, typer.Option("--n", "-n", min=1, help="Number of labelled logs.")] = 40,
+    seed: Annotated[int, typer.Option(help="Random seed (log i depends only on seed and i).")] = 0,
+    category: Annotated[
+        list[str] | None, typer.Option("--category", help="Only these scenario categories (repeatable).")
+    ] = None,
+) -> None:
+    """Generate labelled synthetic scenarios in the Argoverse 2 format plus OUT/labels.csv."""
+    bar = RichProgress()
+    try:
+        result = api.synth(out, n, seed=seed, categories=category or None, progress=bar)
+    except ValueError as exc:
+        raise _fail(exc) from None
+    finally:
+        bar.close()
+    counts: dict[str, int] = {}
+    for label in result.labels:
+        counts[str(label.scenario_category)] = counts.get(str(label.scenario_category), 0) + 1
+    table = Table(title=f"{len(result.log_dirs)} synthetic logs in {result.out_dir}", title_justify="left")
+    table.add_column("category")
+    table.add_column("logs", justify="right")
+    for name, count in sorted(counts.items()):
+        table.add_row(name, str(count))
+    console.print(table)
+    console.print(f"labels: {result.labels_csv}")
+
+
+@app.command()
+def demo(
+    out: Annotated[Path, typer.Option("--out", "-o", help="Working folder for the demo.")] = Path("demo-out"),
+    n: Annotated[int, typer.Option("--n", "-n", min=1, help="Synthetic logs to generate.")] = 24,
+    av2: Annotated[
+        list[Path] | None,
+        typer.Option("--av2", help="Argoverse 2 logs to ingest (default: the shared sample)."),
+    ] = None,
+    config: ConfigOpt = None,
+) -> None:
+    """Run the main job on the embedded defaults: sample AV2 log + synthetic set into a fresh store."""
+    cfg = _config(config)
+    av2_paths = list(av2 or [])
+    if not av2_paths:
+        sample = api.find_sample_av2()
+        if sample is None:
+            err_console.print(
+                "[yellow]no Argoverse 2 sample found beside the checkout; using synthetic data only[/yellow]"
+            )
+        else:
+            av2_paths.append(sample)
+    out.mkdir(parents=True, exist_ok=True)
+    console.rule("[bold]1. synthetic scenarios")
+    synth(out=out / "synth", n=n, seed=0, category=None)
+    console.rule("[bold]2. ingestion")
+    ingest(paths=[*av2_paths, out / "synth"], store=out / "store", config=config, force=False, json_out=False)
+    del cfg
 
 
 def main() -> None:

@@ -8,20 +8,20 @@
    keeps short, sharp events (a sudden brake) that spline fitting flattens.
 
 Everything is vectorised over tracks: interpolation is a single pass over the ``(N, T)``
-arrays, and smoothing runs once per distinct observed span (all tracks sharing a span are
-filtered together), never per frame.
+arrays, and smoothing is one matrix product per distinct span length (the filter, edge fit
+included, is a cached linear operator), never a loop over frames.
 """
 
 from __future__ import annotations
 
-from collections import defaultdict
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.signal import savgol_filter
 
 from scenariominer.config import PreprocessConfig
-from scenariominer.data.log import FloatArray, Log, time_derivative
+from scenariominer.data.log import FloatArray, Log, time_derivative, wrap_angle
 
 _INTERPOLATED = ("x_m", "y_m", "z_m", "length_m", "width_m", "height_m")
 
@@ -71,13 +71,6 @@ def interpolate_gaps(log: Log, max_gap_s: float) -> tuple[Log, int]:
     return log.replace(**changes), int(fill.sum())
 
 
-def _runs(valid_row: NDArray[np.bool_]) -> list[tuple[int, int]]:
-    """Maximal runs ``[start, stop)`` of True in a 1-D mask."""
-    padded = np.concatenate([[False], valid_row, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
-
-
 def window_samples(window_s: float, dt_s: float, length: int, polyorder: int) -> int:
     """Odd Savitzky-Golay window in samples for a span of ``length`` samples; 0 means no smoothing."""
     w = int(round(window_s / dt_s)) if dt_s > 0 else 0
@@ -89,12 +82,37 @@ def window_samples(window_s: float, dt_s: float, length: int, polyorder: int) ->
     return w if w > polyorder else 0
 
 
+#: Spans longer than this are filtered directly instead of through a cached (L, L) operator.
+_MAX_OPERATOR_LENGTH = 1500
+
+
+@lru_cache(maxsize=512)
+def _sg_operator(length: int, window: int, order: int, deriv: int, delta_s: float) -> FloatArray:
+    """``(L, L)`` matrix ``M`` with ``savgol_filter(x) == M @ x`` for any ``x`` of length ``L``.
+
+    The filter (including its polynomial edge fit) is linear in ``x``, so filtering the identity
+    gives the operator; it is built once per (length, window, order, derivative) and reused.
+    """
+    eye = np.eye(length)
+    op: FloatArray = savgol_filter(eye, window, order, deriv=deriv, delta=delta_s, axis=0)
+    return op
+
+
+def _filter_block(block: FloatArray, window: int, order: int, deriv: int, delta_s: float) -> FloatArray:
+    """Savitzky-Golay filter each row of ``block`` ``(K, L)``."""
+    length = block.shape[1]
+    if length > _MAX_OPERATOR_LENGTH:
+        out: FloatArray = savgol_filter(block, window, order, deriv=deriv, delta=delta_s, axis=1)
+        return out
+    return block @ _sg_operator(length, window, order, deriv, delta_s).T
+
+
 def smooth(log: Log, cfg: PreprocessConfig) -> Log:
     """Savitzky-Golay smoothing of positions (and heading) with derived velocity/acceleration.
 
     Tracks too short for the configured window use the longest odd window that fits; spans too
     short for any window (fewer than ``polyorder + 1`` samples) keep their raw values and get
-    finite-difference kinematics.
+    finite-difference kinematics. All spans of equal length are filtered in one matrix product.
     """
     n, t = log.valid.shape
     t_s = log.t_s
@@ -104,44 +122,45 @@ def smooth(log: Log, cfg: PreprocessConfig) -> Log:
     vx, vy = np.full((n, t), np.nan), np.full((n, t), np.nan)
     ax, ay = np.full((n, t), np.nan), np.full((n, t), np.nan)
 
-    groups: dict[tuple[int, int], list[int]] = defaultdict(list)
-    for i in range(n):  # one entry per track span, not per frame
-        for start, stop in _runs(log.valid[i]):
-            groups[(start, stop)].append(i)
+    # Observed spans (maximal runs of valid cells), vectorised over the whole (N, T) mask.
+    padded = np.zeros((n, t + 2), dtype=bool)
+    padded[:, 1:-1] = log.valid
+    edges = np.diff(padded.astype(np.int8), axis=1)
+    span_rows, span_start = np.nonzero(edges == 1)
+    _, span_stop = np.nonzero(edges == -1)
+    lengths = span_stop - span_start
 
-    rough: list[tuple[list[int], int, int]] = []
-    for (start, stop), rows_list in groups.items():
-        rows = np.asarray(rows_list)
-        w = window_samples(cfg.smooth_window_s, dt_s, stop - start, cfg.smooth_polyorder)
+    rough = np.zeros((n, t), dtype=bool)
+    for length in np.unique(lengths):
+        sel = lengths == length
+        rows, starts = span_rows[sel], span_start[sel]
+        w = window_samples(cfg.smooth_window_s, dt_s, int(length), cfg.smooth_polyorder)
+        cols = starts[:, None] + np.arange(length)[None, :]
+        rr = np.broadcast_to(rows[:, None], cols.shape)
         if w == 0:
-            rough.append((rows_list, start, stop))
+            rough[rr, cols] = True
             continue
-        sl = np.s_[start:stop]
         order = min(cfg.smooth_polyorder, w - 1)
         for src, pos, vel, acc in ((log.x_m, x, vx, ax), (log.y_m, y, vy, ay)):
-            block = src[rows, sl]
-            pos[rows, sl] = savgol_filter(block, w, order, axis=1)
-            vel[rows, sl] = savgol_filter(block, w, order, deriv=1, delta=dt_s, axis=1)
-            acc[rows, sl] = (
-                savgol_filter(block, w, order, deriv=2, delta=dt_s, axis=1)
-                if order >= 2
-                else np.gradient(vel[rows, sl], dt_s, axis=1)
+            block = src[rr, cols]
+            pos[rr, cols] = _filter_block(block, w, order, 0, dt_s)
+            v = _filter_block(block, w, order, 1, dt_s)
+            vel[rr, cols] = v
+            acc[rr, cols] = (
+                _filter_block(block, w, order, 2, dt_s) if order >= 2 else np.gradient(v, dt_s, axis=1)
             )
         if cfg.smooth_yaw:
-            unwrapped = np.unwrap(log.yaw_rad[rows, sl], axis=1)
-            yaw[rows, sl] = np.angle(np.exp(1j * savgol_filter(unwrapped, w, order, axis=1)))
+            unwrapped = np.unwrap(log.yaw_rad[rr, cols], axis=1)
+            yaw[rr, cols] = wrap_angle(_filter_block(unwrapped, w, order, 0, dt_s))
 
-    if rough:
-        rows_all = np.asarray(sorted({r for rows_list, _, _ in rough for r in rows_list}))
-        mask = np.zeros((n, t), dtype=bool)
-        for rows_list, start, stop in rough:
-            mask[np.asarray(rows_list), start:stop] = True
+    if rough.any():
+        rows_all = np.flatnonzero(rough.any(axis=1))
         for src, vel, acc in ((log.x_m, vx, ax), (log.y_m, vy, ay)):
-            masked = np.where(mask, src, np.nan)[rows_all]
+            masked = np.where(rough, src, np.nan)[rows_all]
             v = time_derivative(masked, t_s)
             a = time_derivative(v, t_s)
-            vel[rows_all] = np.where(mask[rows_all], v, vel[rows_all])
-            acc[rows_all] = np.where(mask[rows_all], a, acc[rows_all])
+            vel[rows_all] = np.where(rough[rows_all], v, vel[rows_all])
+            acc[rows_all] = np.where(rough[rows_all], a, acc[rows_all])
 
     invalid = ~log.valid
     for arr in (x, y, yaw, vx, vy, ax, ay):

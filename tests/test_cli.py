@@ -1,0 +1,46 @@
+"""The command line: the documented command shapes work as written and fail with clear messages."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from scenariominer.cli import app
+
+runner = CliRunner()
+
+
+def test_synth_ingest_info_round_trip(tmp_path: Path) -> None:
+    out = tmp_path / "synth"
+    result = runner.invoke(app, ["synth", "--out", str(out), "--n", "3"])
+    assert result.exit_code == 0, result.output
+    assert (out / "labels.csv").read_text().splitlines()[0].startswith("log_id,guest_id,scenario_category")
+    store = tmp_path / "store"
+    result = runner.invoke(app, ["ingest", str(out), "--store", str(store)])
+    assert result.exit_code == 0, result.output
+    assert "ingested 3 source(s)" in result.output
+    result = runner.invoke(app, ["info", "--store", str(store)])
+    assert result.exit_code == 0, result.output
+    assert "EGO_VEHICLE" in result.output and "│ logs" in result.output
+
+
+def test_ingest_of_a_missing_path_names_it(tmp_path: Path) -> None:
+    result = runner.invoke(app, ["ingest", str(tmp_path / "nope"), "--store", str(tmp_path / "s")])
+    assert result.exit_code == 1
+    assert "nope" in result.output and "no such file" in result.output
+
+
+def test_store_defaults_to_the_environment_variable(tmp_path: Path) -> None:
+    store = tmp_path / "envstore"
+    result = runner.invoke(app, ["info"], env={"SCENARIOMINER_STORE": str(store)})
+    assert result.exit_code == 0, result.output
+    assert (store / "store.json").is_file()
+
+
+def test_bad_config_file_is_reported(tmp_path: Path) -> None:
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[preprocess]\nwindow = 3\n")
+    result = runner.invoke(app, ["info", "--config", str(cfg), "--store", str(tmp_path / "s")])
+    assert result.exit_code == 2
+    assert "unknown key" in result.output
