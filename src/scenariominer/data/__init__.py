@@ -2,7 +2,12 @@
 
 from scenariominer.data.av2 import Av2Reader, read_av2_log, write_av2_log
 from scenariominer.data.av2_map import Av2Map, read_av2_map, write_av2_map
-from scenariominer.data.categories import AV2_CATEGORIES, CATEGORY_GROUPS, canonical_category, expand_categories
+from scenariominer.data.categories import (
+    AV2_CATEGORIES,
+    CATEGORY_GROUPS,
+    canonical_category,
+    expand_categories,
+)
 from scenariominer.data.highd import HighDReader, write_highd_recording
 from scenariominer.data.log import STATE_FIELDS, Log, LogFormatError, build_log
 from scenariominer.data.preprocess import preprocess
