@@ -18,7 +18,6 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.signal import savgol_filter
 
 from scenariominer.config import PreprocessConfig
 from scenariominer.data.log import FloatArray, Log, time_derivative, wrap_angle
@@ -93,6 +92,8 @@ def _sg_operator(length: int, window: int, order: int, deriv: int, delta_s: floa
     The filter (including its polynomial edge fit) is linear in ``x``, so filtering the identity
     gives the operator; it is built once per (length, window, order, derivative) and reused.
     """
+    from scipy.signal import savgol_filter  # scipy.signal takes ~1 s to import: only when smoothing
+
     eye = np.eye(length)
     op: FloatArray = savgol_filter(eye, window, order, deriv=deriv, delta=delta_s, axis=0)
     return op
@@ -102,6 +103,8 @@ def _filter_block(block: FloatArray, window: int, order: int, deriv: int, delta_
     """Savitzky-Golay filter each row of ``block`` ``(K, L)``."""
     length = block.shape[1]
     if length > _MAX_OPERATOR_LENGTH:
+        from scipy.signal import savgol_filter
+
         out: FloatArray = savgol_filter(block, window, order, deriv=deriv, delta=delta_s, axis=1)
         return out
     return block @ _sg_operator(length, window, order, deriv, delta_s).T
