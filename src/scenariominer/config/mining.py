@@ -1,0 +1,190 @@
+"""Configuration of program-based scenario mining: predicate thresholds, post-processing, sandbox.
+
+The atomic predicates of :mod:`scenariominer.mine.predicates` take their *tunable arguments*
+(``within_distance``, ``min_velocity``, ...) from the program that calls them; the thresholds below
+are the ones a program cannot set: what counts as "moving", how much heading change makes a turn,
+how far ahead a lead vehicle may be for "following", and so on. Defaults follow RefAV (Davidson et
+al., 2025) where its code fixes a number, and the reason is given per field otherwise.
+
+Example ``scenariominer.toml``::
+
+    [mining]
+    stationary_max_displacement_m = 2.5
+
+    [mining.sandbox]
+    timeout_s = 10
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+__all__ = ["MiningConfig", "SandboxConfig"]
+
+
+@dataclass(frozen=True)
+class SandboxConfig:
+    """Limits for running untrusted (LLM-written) mining programs.
+
+    Attributes:
+        timeout_s: wall-clock limit (seconds) for one program on one log, including the child
+            process's start-up; a program running longer is killed and reported as ``timeout``.
+        memory_mb: address space (MiB) the program may allocate on top of what the sandbox child
+            holds after importing the predicate library; exceeding it raises ``MemoryError`` inside
+            the child, reported as ``memory``.
+        cpu_s: CPU-time limit (seconds) of the child as a backstop to the wall-clock limit.
+        max_program_chars: longer program texts are refused before parsing (``forbidden``).
+        max_ast_nodes: programs whose syntax tree has more nodes are refused (``forbidden``); a
+            mining program is a few dozen calls, so 5,000 nodes leaves ample room.
+        max_range_len: ``range(...)`` inside programs may yield at most this many values.
+    """
+
+    timeout_s: float = 30.0
+    memory_mb: int = 1024
+    cpu_s: int = 60
+    max_program_chars: int = 20_000
+    max_ast_nodes: int = 5_000
+    max_range_len: int = 100_000
+
+    def __post_init__(self) -> None:
+        if self.timeout_s <= 0 or self.memory_mb <= 0 or self.cpu_s <= 0:
+            raise ValueError("mining.sandbox: timeout_s, memory_mb and cpu_s must be > 0")
+        if self.max_program_chars <= 0 or self.max_ast_nodes <= 0 or self.max_range_len <= 0:
+            raise ValueError("mining.sandbox: program size limits must be > 0")
+
+
+@dataclass(frozen=True)
+class MiningConfig:
+    """Thresholds of the atomic mining predicates that programs cannot set themselves.
+
+    Attributes:
+        side_max_distance_m: default ``within_distance`` (metres, box to box) of
+            ``has_objects_in_relative_direction`` / ``get_objects_in_relative_direction`` for
+            ``'left'``/``'right'``: "a bicycle to its right" is beside the subject, at most about a
+            lane away (a lane is ~3.6 m, so the gap to an object in the next lane is ~2-3 m and to
+            one two lanes over ~6 m). RefAV's own examples use 4 m for objects beside a vehicle.
+        front_back_max_distance_m: default ``within_distance`` (metres) for ``'forward'``/
+            ``'backward'`` (RefAV's example "vehicle behind another vehicle" uses 25 m).
+        direction_lateral_m: default ``lateral_thresh`` (metres) of the same two predicates: how
+            far the related object's centre may lie beyond the subject's extent perpendicular to
+            the direction. 1 m keeps "to its right" beside the subject (not ahead or behind it) and
+            "in front" inside a corridor of about one lane (a 2 m wide car plus 1 m on each side).
+        stationary_max_displacement_m: ``stationary`` holds for a track whose observed positions
+            all fit in a box whose diagonal is below this (metres); RefAV uses 3 m because box
+            centres of parked cars jitter by up to a metre over a log.
+        moving_min_speed_mps: ``following`` needs both the follower and the lead to be at least
+            this fast (m/s); 0.5 m/s is above the speed jitter of annotated parked cars.
+        heading_min_speed_mps: ``heading_in_relative_direction_to`` uses the velocity direction of
+            objects at least this fast (m/s) and the box heading of slower agents (RefAV: 1 m/s).
+        same_direction_max_deg: travel directions at most this far apart (degrees) are "same".
+        opposite_direction_min_deg: travel directions at least this far apart (degrees) are
+            "opposite"; in between they are "perpendicular" (RefAV: 45 and 135 degrees).
+        turn_min_heading_change_deg: a run of same-sign yaw rate is a turn when the heading changes
+            by more than this over the run (degrees; RefAV: 45).
+        turn_partial_min_heading_change_deg: a run cut by the start or end of the track (the turn
+            began before or ended after the recording) is a turn when its heading change exceeds
+            this (degrees; RefAV: 15) and its mean yaw rate exceeds ``turn_min_yaw_rate_deg_s``.
+        turn_min_yaw_rate_deg_s: see above (degrees per second; RefAV: 5).
+        turn_yaw_rate_deadband_deg_s: yaw rates smaller in magnitude than this (deg/s) count as
+            zero when splitting a track into same-sign runs, so heading jitter of a straight-driving
+            car does not cut a turn into pieces.
+        lane_change_min_lateral_speed_mps: a lane change is only registered while the speed
+            component across the old lane is at least this (m/s; RefAV: 0.1).
+        lane_change_max_heading_deg: ... and while the direction of travel is within this angle of
+            the lane direction (degrees; RefAV: cosine 0.5, i.e. 60 degrees).
+        lane_change_min_lateral_m: the sideways movement around the lane switch must add up to
+            at least this (metres across the lane); a real lane change moves about 3.5 m, while a
+            car drifting near a lane boundary crosses it with a few decimetres.
+        following_max_gap_m: ``following``: the lead's centre is at most this far (metres) ahead
+            of the follower's front bumper (RefAV: 25 m).
+        following_max_lateral_m: ``following`` without an HD map: the lead's centre is at most this
+            far (metres) to either side of the follower's centre line (about half a lane, so a car
+            in the neighbouring lane is not a lead); with a map the lanes decide and a 5 m band is used.
+        following_min_heading_cos: ``following``: cosine of the angle between the two directions
+            of travel must exceed this (RefAV: 0.5).
+        crossing_min_speed_mps: ``being_crossed_by``: the related object's speed across the
+            midplane must exceed this (m/s; RefAV: 0.2) for the crossing to count and to continue.
+        stop_sign_max_right_m: ``at_stop_sign``: the object is at most this far (metres) to the
+            right of the stop sign's forward axis (RefAV: 7 m); the forward distance is an argument.
+        stop_sign_min_behind_m: ... and at most this far (metres) behind the sign's plane (RefAV: 1 m).
+        av2_ego_center_offset_m: Argoverse 2 reports the ego pose at the rear axle; the ego's box
+            centre lies this far (metres) ahead of it (Ford Fusion: 4.877 m long, rear axle 1.016 m
+            from the rear bumper, so 1.422 m). Only applied to logs whose ``dataset`` is ``av2``.
+        postprocess_min_timestamps: after a program ran, referred tracks referred at fewer than
+            this many timestamps are dropped as noise (RefAV: 2).
+        postprocess_min_run_timestamps: a run of ``k`` referred timestamps shorter than this
+            (``m``) is widened by ``(m - k) // 2`` timestamps on both sides (RefAV: 3, so a
+            single-frame hit becomes three frames).
+        postprocess_max_relation_distance_m: relations whose objects never come closer than this
+            (metres, centre to centre) are dropped (RefAV: 50 m, the annotation verification range).
+        sandbox: limits for running untrusted programs.
+    """
+
+    side_max_distance_m: float = 4.0
+    front_back_max_distance_m: float = 25.0
+    direction_lateral_m: float = 1.0
+    stationary_max_displacement_m: float = 3.0
+    moving_min_speed_mps: float = 0.5
+    heading_min_speed_mps: float = 1.0
+    same_direction_max_deg: float = 45.0
+    opposite_direction_min_deg: float = 135.0
+    turn_min_heading_change_deg: float = 45.0
+    turn_partial_min_heading_change_deg: float = 15.0
+    turn_min_yaw_rate_deg_s: float = 5.0
+    turn_yaw_rate_deadband_deg_s: float = 1.0
+    lane_change_min_lateral_speed_mps: float = 0.1
+    lane_change_max_heading_deg: float = 60.0
+    lane_change_min_lateral_m: float = 1.0
+    following_max_gap_m: float = 25.0
+    following_max_lateral_m: float = 1.75
+    following_min_heading_cos: float = 0.5
+    crossing_min_speed_mps: float = 0.2
+    stop_sign_max_right_m: float = 7.0
+    stop_sign_min_behind_m: float = 1.0
+    av2_ego_center_offset_m: float = 1.422
+    postprocess_min_timestamps: int = 2
+    postprocess_min_run_timestamps: int = 3
+    postprocess_max_relation_distance_m: float = 50.0
+    sandbox: SandboxConfig = field(default_factory=SandboxConfig)
+
+    def __post_init__(self) -> None:
+        positive = {
+            "side_max_distance_m": self.side_max_distance_m,
+            "front_back_max_distance_m": self.front_back_max_distance_m,
+            "stationary_max_displacement_m": self.stationary_max_displacement_m,
+            "following_max_gap_m": self.following_max_gap_m,
+            "following_max_lateral_m": self.following_max_lateral_m,
+            "stop_sign_max_right_m": self.stop_sign_max_right_m,
+            "postprocess_max_relation_distance_m": self.postprocess_max_relation_distance_m,
+        }
+        for name, value in positive.items():
+            if not value > 0:
+                raise ValueError(f"mining.{name} must be > 0, got {value}")
+        non_negative = {
+            "direction_lateral_m": self.direction_lateral_m,
+            "moving_min_speed_mps": self.moving_min_speed_mps,
+            "heading_min_speed_mps": self.heading_min_speed_mps,
+            "turn_min_heading_change_deg": self.turn_min_heading_change_deg,
+            "turn_partial_min_heading_change_deg": self.turn_partial_min_heading_change_deg,
+            "turn_min_yaw_rate_deg_s": self.turn_min_yaw_rate_deg_s,
+            "turn_yaw_rate_deadband_deg_s": self.turn_yaw_rate_deadband_deg_s,
+            "lane_change_min_lateral_speed_mps": self.lane_change_min_lateral_speed_mps,
+            "lane_change_min_lateral_m": self.lane_change_min_lateral_m,
+            "crossing_min_speed_mps": self.crossing_min_speed_mps,
+            "stop_sign_min_behind_m": self.stop_sign_min_behind_m,
+            "postprocess_min_timestamps": self.postprocess_min_timestamps,
+            "postprocess_min_run_timestamps": self.postprocess_min_run_timestamps,
+        }
+        for name, value in non_negative.items():
+            if value < 0 or not math.isfinite(value):
+                raise ValueError(f"mining.{name} must be a finite number >= 0, got {value}")
+        if not 0 <= self.same_direction_max_deg <= self.opposite_direction_min_deg <= 180:
+            raise ValueError(
+                "mining: need 0 <= same_direction_max_deg <= opposite_direction_min_deg <= 180, got "
+                f"{self.same_direction_max_deg} and {self.opposite_direction_min_deg}"
+            )
+        if not 0 < self.lane_change_max_heading_deg <= 90:
+            raise ValueError("mining.lane_change_max_heading_deg must be in (0, 90]")
+        if not -1 <= self.following_min_heading_cos <= 1:
+            raise ValueError("mining.following_min_heading_cos must be in [-1, 1]")

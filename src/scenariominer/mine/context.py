@@ -1,0 +1,721 @@
+"""Per-log arrays shared by every mining predicate, computed once and cached.
+
+A :class:`LogContext` wraps one :class:`~scenariominer.data.log.Log` and derives, lazily and at
+most once, everything the atomic predicates need: box centres (with the Argoverse 2 ego's
+rear-axle offset corrected), headings, body-frame velocities and accelerations, yaw rates,
+pairwise relative positions of one set of tracks in the frames of another, pairwise box-to-box
+distances, and the HD-map look-ups (lane per observation, drivable area, crossings). Predicates
+therefore never loop over frames in Python; a program that calls ten predicates on the same
+vehicles pays for the vehicles' geometry once.
+
+Frames and units: world ("city") frame in metres; a track's *box frame* has its origin at the box
+centre, ``x`` forward along the heading and ``y`` to the left. Angles are radians unless the name
+says ``_deg``. Arrays are ``(N, T)`` over tracks × timestamps, ``NaN`` where a track is absent.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Callable
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from scenariominer.config.mining import MiningConfig
+from scenariominer.data.av2_map import Av2Map, read_av2_map
+from scenariominer.data.categories import EGO_CATEGORY, expand_categories
+from scenariominer.data.log import BoolArray, FloatArray, Log
+
+__all__ = [
+    "AGENT_CATEGORIES",
+    "IntArray",
+    "LogContext",
+    "MapIndex",
+    "MapRequiredError",
+    "box_distance",
+    "wrap_angle",
+]
+
+IntArray = NDArray[np.int64]
+
+#: Categories that choose their own direction of travel (RefAV's "free will" objects): their box
+#: heading is meaningful even while they stand still.
+AGENT_CATEGORIES: frozenset[str] = frozenset(
+    {
+        "ANIMAL",
+        "OFFICIAL_SIGNALER",
+        "RAILED_VEHICLE",
+        "ARTICULATED_BUS",
+        "WHEELED_RIDER",
+        "SCHOOL_BUS",
+        "MOTORCYCLIST",
+        "TRUCK_CAB",
+        "VEHICULAR_TRAILER",
+        "BICYCLIST",
+        "MOTORCYCLE",
+        "TRUCK",
+        "BOX_TRUCK",
+        "BUS",
+        "LARGE_VEHICLE",
+        "PEDESTRIAN",
+        "REGULAR_VEHICLE",
+        "EGO_VEHICLE",
+    }
+)
+
+#: Map-free predicates suggested to a program that called a map predicate on a log without a map.
+MAP_FREE_PREDICATES: tuple[str, ...] = (
+    "has_objects_in_relative_direction",
+    "near_objects",
+    "facing_toward",
+    "heading_toward",
+    "being_crossed_by",
+    "following",
+    "has_velocity",
+    "accelerating",
+    "turning",
+    "stationary",
+)
+
+_PAIR_CACHE_ENTRIES = 32
+_CHUNK_CELLS = 1_000_000
+
+
+class MapRequiredError(RuntimeError):
+    """A map-aware predicate was called on a log without an HD map.
+
+    The message is written for the program-repair loop: it names the predicate and lists
+    map-free predicates the program can use instead.
+
+    Attributes:
+        predicate: name of the predicate that needs the map.
+        log_id: the log without a map.
+    """
+
+    def __init__(self, predicate: str, log_id: str) -> None:
+        self.predicate = predicate
+        self.log_id = log_id
+        super().__init__(
+            f"predicate {predicate}() needs an HD map; log {log_id} has none. Rewrite the program with "
+            f"map-free predicates such as {', '.join(MAP_FREE_PREDICATES)}."
+        )
+
+
+def wrap_angle(angle_rad: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """Wrap angles to ``[-pi, pi)`` (element-wise)."""
+    return np.asarray((np.asarray(angle_rad, dtype=np.float64) + np.pi) % (2 * np.pi) - np.pi)
+
+
+def _wrapped_rate(angle_rad: FloatArray, t_s: FloatArray) -> FloatArray:
+    """Time derivative along axis 1 of an ``(N, T)`` angle array, wrapping differences to ±pi.
+
+    Central differences between valid neighbours, one-sided at span ends; NaN cells stay NaN and
+    an isolated observation has rate 0.
+    """
+    n, t = angle_rad.shape
+    out = np.full((n, t), np.nan)
+    finite = np.isfinite(angle_rad)
+    if t < 2:
+        out[finite] = 0.0
+        return out
+    fwd = np.full((n, t), np.nan)
+    fwd[:, :-1] = wrap_angle(np.diff(angle_rad, axis=1)) / np.diff(t_s)
+    bwd = np.full((n, t), np.nan)
+    bwd[:, 1:] = fwd[:, :-1]
+    central = np.full((n, t), np.nan)
+    if t >= 3:
+        central[:, 1:-1] = wrap_angle(angle_rad[:, 2:] - angle_rad[:, :-2]) / (t_s[2:] - t_s[:-2])
+    out = np.where(np.isfinite(central), central, np.where(np.isfinite(fwd), fwd, bwd))
+    out[~finite] = np.nan
+    out[finite & ~np.isfinite(out)] = 0.0
+    return out
+
+
+def _point_to_box_distance(
+    px: FloatArray,
+    py: FloatArray,
+    cx: FloatArray,
+    cy: FloatArray,
+    c: FloatArray,
+    s: FloatArray,
+    half_l: FloatArray,
+    half_w: FloatArray,
+) -> FloatArray:
+    """Distance (m) from points to oriented rectangles (0 inside); all arguments broadcast."""
+    dx, dy = px - cx, py - cy
+    lx = np.abs(c * dx + s * dy) - half_l
+    ly = np.abs(-s * dx + c * dy) - half_w
+    return np.asarray(np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0)))
+
+
+def box_distance(
+    a: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
+    b: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
+) -> FloatArray:
+    """Minimum distance (m) between the footprints of oriented boxes, 0 where they overlap.
+
+    Args:
+        a: ``(cx_m, cy_m, yaw_rad, length_m, width_m)`` of the first boxes, arrays that broadcast
+            against each other and against ``b``.
+        b: the same for the second boxes.
+
+    Returns:
+        The broadcast shape of the inputs; NaN where any input is NaN.
+
+    Two rectangles overlap unless one of the four edge normals separates them (separating-axis
+    theorem); for disjoint convex polygons the minimum distance is attained at a corner of one
+    of them, so it is the smallest corner-to-rectangle distance of the eight corners.
+    """
+    acx, acy, ayaw, al, aw = a
+    bcx, bcy, byaw, bl, bw = b
+    ac, as_ = np.cos(ayaw), np.sin(ayaw)
+    bc, bs = np.cos(byaw), np.sin(byaw)
+    ahl, ahw, bhl, bhw = al / 2, aw / 2, bl / 2, bw / 2
+    dx, dy = bcx - acx, bcy - acy
+    separated = np.zeros(np.broadcast_shapes(np.shape(dx), np.shape(bc)), dtype=bool)
+    for nx, ny in ((ac, as_), (-as_, ac), (bc, bs), (-bs, bc)):
+        ra = ahl * np.abs(ac * nx + as_ * ny) + ahw * np.abs(-as_ * nx + ac * ny)
+        rb = bhl * np.abs(bc * nx + bs * ny) + bhw * np.abs(-bs * nx + bc * ny)
+        separated |= np.abs(dx * nx + dy * ny) > ra + rb
+    best = np.full(separated.shape, np.inf)
+    for sl, sw in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+        # corners of a measured against box b, and corners of b against box a
+        pax = acx + sl * ahl * ac - sw * ahw * as_
+        pay = acy + sl * ahl * as_ + sw * ahw * ac
+        best = np.minimum(best, _point_to_box_distance(pax, pay, bcx, bcy, bc, bs, bhl, bhw))
+        pbx = bcx + sl * bhl * bc - sw * bhw * bs
+        pby = bcy + sl * bhl * bs + sw * bhw * bc
+        best = np.minimum(best, _point_to_box_distance(pbx, pby, acx, acy, ac, as_, ahl, ahw))
+    out = np.where(separated, best, 0.0)
+    nan = ~np.isfinite(dx + dy + ayaw + byaw + al + aw + bl + bw)
+    return np.asarray(np.where(nan, np.nan, out))
+
+
+class MapIndex:
+    """Mining look-ups over an Argoverse 2 vector map, built once per map.
+
+    Wraps an :class:`~scenariominer.data.av2_map.Av2Map` (its lane polygons, centre lines,
+    types, intersection flags, crossings, drivable areas and lane graph) and derives the lane
+    groupings RefAV's predicates use:
+
+    * *semantic lane*: lane segments joined along their straightest successor/predecessor
+      (turning lanes inside intersections stay alone); ``in_same_lane`` compares these;
+    * *road side*: semantic lanes joined with their same-direction neighbours;
+      ``on_relative_side_of_road`` compares these, and the opposite side is the road side
+      of an opposite-direction neighbour.
+
+    Args:
+        hd_map: the vector map.
+    """
+
+    def __init__(self, hd_map: Av2Map) -> None:
+        self.map = hd_map
+        self.lane_ids: IntArray = hd_map.lane_ids
+        self.lane_polygons: NDArray[np.object_] = hd_map.lane_polygons
+        self.lane_centerlines: NDArray[np.object_] = hd_map.lane_centerlines
+        self.lane_types: NDArray[np.str_] = hd_map.lane_types
+        self.lane_is_intersection: BoolArray = hd_map.lane_is_intersection
+        pos = {int(lid): i for i, lid in enumerate(self.lane_ids)}
+
+        def idx(lid: int | None) -> int:
+            return pos.get(int(lid), -1) if lid is not None else -1
+
+        lanes = hd_map.lane_segments
+        self.successors: list[list[int]] = [[idx(j) for j in ls.successors if idx(j) >= 0] for ls in lanes]
+        self.predecessors: list[list[int]] = [
+            [idx(j) for j in ls.predecessors if idx(j) >= 0] for ls in lanes
+        ]
+        self.left_neighbor: IntArray = np.asarray([idx(ls.left_neighbor_id) for ls in lanes], dtype=np.int64)
+        self.right_neighbor: IntArray = np.asarray(
+            [idx(ls.right_neighbor_id) for ls in lanes], dtype=np.int64
+        )
+
+    @classmethod
+    def from_map(cls, hd_map: Any) -> MapIndex:
+        """A :class:`MapIndex` for ``hd_map`` (an :class:`Av2Map`, or a :class:`MapIndex` itself)."""
+        if isinstance(hd_map, MapIndex):
+            return hd_map
+        if isinstance(hd_map, Av2Map):
+            return cls(hd_map)
+        raise TypeError(f"expected an Av2Map or MapIndex as HD map, got {type(hd_map).__name__}")
+
+    # ------------------------------------------------------------------ lane geometry
+    @property
+    def n_lanes(self) -> int:
+        """Number of lane segments ``L``."""
+        return int(self.lane_ids.shape[0])
+
+    @cached_property
+    def lane_direction_rad(self) -> FloatArray:
+        """``(L,)`` overall direction of each lane, start to end of its centre line (radians)."""
+        if self.n_lanes == 0:
+            return np.empty(0)
+        start = shapely.get_coordinates(shapely.get_point(self.lane_centerlines, 0))
+        end = shapely.get_coordinates(shapely.get_point(self.lane_centerlines, -1))
+        return np.asarray(np.arctan2(end[:, 1] - start[:, 1], end[:, 0] - start[:, 0]), dtype=np.float64)
+
+    @cached_property
+    def lane_turn(self) -> NDArray[np.str_]:
+        """``(L,)`` ``left``/``right``/``straight`` for intersection lanes, ``""`` for others.
+
+        The heading change between the first and the last centre-line segment decides; more than
+        30 degrees is a turn.
+        """
+        out = np.full(self.n_lanes, "", dtype="<U8")
+        for i in np.flatnonzero(self.lane_is_intersection):
+            xy = shapely.get_coordinates(self.lane_centerlines[i])
+            if xy.shape[0] < 2:
+                out[i] = "straight"
+                continue
+            h0 = np.arctan2(*(xy[1] - xy[0])[::-1])
+            h1 = np.arctan2(*(xy[-1] - xy[-2])[::-1])
+            change = float(wrap_angle(h1 - h0))
+            out[i] = "left" if change > np.pi / 6 else "right" if change < -np.pi / 6 else "straight"
+        return out
+
+    def _straight_link(self, i: int, links: list[int]) -> int:
+        """The link of lane ``i`` best aligned with it among non-turning lanes (or -1)."""
+        best, best_cos = -1, 0.0
+        for j in links:
+            if self.lane_turn[j] in ("left", "right"):
+                continue
+            cos = float(np.cos(self.lane_direction_rad[j] - self.lane_direction_rad[i]))
+            if cos > best_cos:
+                best, best_cos = j, cos
+        return best
+
+    def _groups(self, pairs: list[tuple[int, int]]) -> IntArray:
+        n = self.n_lanes
+        if not pairs:
+            return np.arange(n, dtype=np.int64)
+        a = np.asarray(pairs, dtype=np.int64)
+        graph = coo_matrix((np.ones(len(a)), (a[:, 0], a[:, 1])), shape=(n, n))
+        _, labels = connected_components(graph, directed=False)
+        return np.asarray(labels, dtype=np.int64)
+
+    @cached_property
+    def semantic_lane(self) -> IntArray:
+        """``(L,)`` group id of the colloquial lane each segment belongs to (see class doc)."""
+        pairs: list[tuple[int, int]] = []
+        for i in range(self.n_lanes):
+            if self.lane_turn[i] in ("left", "right"):
+                continue
+            for links in (self.successors[i], self.predecessors[i]):
+                j = self._straight_link(i, links)
+                if j >= 0:
+                    pairs.append((i, j))
+        return self._groups(pairs)
+
+    def _same_direction(self, i: int, j: int) -> bool:
+        return bool(np.cos(self.lane_direction_rad[i] - self.lane_direction_rad[j]) > 0)
+
+    @cached_property
+    def road_side(self) -> IntArray:
+        """``(L,)`` group id of the side of the road each segment is on (see class doc)."""
+        sem = self.semantic_lane
+        pairs = [(i, int(j)) for i in range(self.n_lanes) for j in np.flatnonzero(sem == sem[i]) if j != i]
+        for i in range(self.n_lanes):
+            for j in (int(self.left_neighbor[i]), int(self.right_neighbor[i])):
+                if j >= 0 and self._same_direction(i, j):
+                    pairs.append((i, j))
+        return self._groups(pairs)
+
+    @cached_property
+    def opposite_road_side(self) -> IntArray:
+        """``(L,)`` road-side id of the opposite direction of travel, -1 when the map has none."""
+        side = self.road_side
+        out = np.full(self.n_lanes, -1, dtype=np.int64)
+        for i in range(self.n_lanes):
+            for j in (int(self.left_neighbor[i]), int(self.right_neighbor[i])):
+                if j >= 0 and not self._same_direction(i, j):
+                    out[side == side[i]] = side[j]
+        return out
+
+    # ------------------------------------------------------------------ vectorised look-ups
+    def lanes_at(self, x_m: FloatArray, y_m: FloatArray, yaw_rad: FloatArray) -> tuple[IntArray, FloatArray]:
+        """Lane segment under each point and the lane's local direction there.
+
+        Uses :meth:`Av2Map.lane_index_at` (closest centre line, heading mismatch penalised, so a
+        vehicle is placed in the lane it drives along).
+
+        Args:
+            x_m: point x, any shape; NaN points get no lane.
+            y_m: point y, same shape.
+            yaw_rad: heading at each point (same shape); NaN counts as no preference.
+
+        Returns:
+            Lane indices (into :attr:`lane_ids`) of the input shape, -1 where no lane, and the
+            local direction (radians) of the chosen lane's centre line at each point (NaN where
+            no lane).
+        """
+        shape = np.shape(x_m)
+        xy = np.stack([np.ravel(x_m), np.ravel(y_m)], axis=1)
+        lane = self.map.lane_index_at(xy, np.ravel(yaw_rad)) if xy.shape[0] else np.zeros(0, np.int64)
+        direction = np.full(lane.shape, np.nan)
+        has = np.flatnonzero(lane >= 0)
+        if has.size:
+            lines = self.lane_centerlines[lane[has]]
+            pts = shapely.points(xy[has])
+            s = shapely.line_locate_point(lines, pts)
+            p0 = shapely.get_coordinates(shapely.line_interpolate_point(lines, np.maximum(s - 0.5, 0.0)))
+            p1 = shapely.get_coordinates(shapely.line_interpolate_point(lines, s + 0.5))
+            direction[has] = np.arctan2(p1[:, 1] - p0[:, 1], p1[:, 0] - p0[:, 0])
+        return np.asarray(lane, dtype=np.int64).reshape(shape), direction.reshape(shape)
+
+    def near_intersection(self, x_m: FloatArray, y_m: FloatArray, threshold_m: float) -> BoolArray:
+        """Whether each point lies within ``threshold_m`` of an intersection lane polygon (or on it)."""
+        xy = np.stack([np.ravel(x_m), np.ravel(y_m)], axis=1)
+        d = self.map.distance_to_intersection(xy)
+        with np.errstate(invalid="ignore"):
+            return np.asarray(d <= threshold_m).reshape(np.shape(x_m))
+
+    def in_drivable_area(self, x_m: FloatArray, y_m: FloatArray) -> BoolArray:
+        """Whether each point lies inside a drivable-area polygon."""
+        xy = np.stack([np.ravel(x_m), np.ravel(y_m)], axis=1)
+        out = np.zeros(xy.shape[0], dtype=bool)
+        ok = np.all(np.isfinite(xy), axis=1)
+        if ok.any():
+            out[ok] = self.map.in_drivable_area(xy[ok])
+        return out.reshape(np.shape(x_m))
+
+    @cached_property
+    def _crosswalk_union(self) -> Any:
+        polys = self.map.crosswalk_polygons
+        return shapely.union_all(polys) if len(polys) else None
+
+    def crosswalk_distance(self, boxes: NDArray[np.object_]) -> FloatArray:
+        """Distance (m) from each shapely box polygon to the nearest pedestrian crossing (inf if none)."""
+        if self._crosswalk_union is None:
+            return np.full(np.shape(boxes), np.inf)
+        return np.asarray(shapely.distance(self._crosswalk_union, boxes), dtype=np.float64)
+
+
+class LogContext:
+    """One log plus the derived arrays shared by all predicates (see module docstring).
+
+    Pass a preprocessed log (:func:`scenariominer.data.preprocess.preprocess`): accelerations of
+    raw annotation boxes are too noisy for ``accelerating``/``has_lateral_acceleration``.
+
+    Args:
+        log: the log to mine.
+        config: predicate thresholds; defaults to :class:`MiningConfig`.
+        hd_map: an HD map for the log (an :class:`~scenariominer.data.av2_map.Av2Map` or a
+            :class:`MapIndex`); ``None`` reads ``log.map_dir`` on first use, if set.
+    """
+
+    def __init__(self, log: Log, config: MiningConfig | None = None, hd_map: Any = None) -> None:
+        self.log = log
+        self.config = config or MiningConfig()
+        self._map_given = hd_map
+        self._pair_cache: OrderedDict[tuple[str, bytes, bytes], Any] = OrderedDict()
+        self._memo: dict[tuple[Any, ...], Any] = {}
+
+    def __repr__(self) -> str:
+        return f"LogContext({self.log.log_id!r}, {self.n_tracks} tracks, {self.n_timestamps} timestamps)"
+
+    # ------------------------------------------------------------------ basic views
+    @property
+    def log_id(self) -> str:
+        """Identifier of the log."""
+        return self.log.log_id
+
+    @property
+    def n_tracks(self) -> int:
+        """Number of tracks ``N`` (ego included)."""
+        return self.log.n_tracks
+
+    @property
+    def n_timestamps(self) -> int:
+        """Number of timestamps ``T``."""
+        return self.log.n_timestamps
+
+    @property
+    def valid(self) -> BoolArray:
+        """``(N, T)`` observation mask."""
+        return self.log.valid
+
+    @property
+    def ego_index(self) -> int:
+        """Row of the ego track."""
+        return self.log.ego_index
+
+    @cached_property
+    def t_s(self) -> FloatArray:
+        """``(T,)`` seconds since the first timestamp."""
+        return self.log.t_s
+
+    def category_mask(self, category: str) -> BoolArray:
+        """``(N,)`` tracks whose category is ``category`` or belongs to the group ``category``.
+
+        Raises:
+            ValueError: unknown category name; the message lists the valid names.
+        """
+        from scenariominer.data.categories import AV2_CATEGORIES, CATEGORY_GROUPS
+
+        try:
+            names = expand_categories([category])
+        except ValueError:
+            raise ValueError(
+                f"unknown category {category!r}; use one of {sorted(AV2_CATEGORIES)} or a group "
+                f"{sorted(CATEGORY_GROUPS)}"
+            ) from None
+        return np.isin(self.log.categories, sorted(names))
+
+    @cached_property
+    def is_agent(self) -> BoolArray:
+        """``(N,)`` tracks of :data:`AGENT_CATEGORIES` (their heading is meaningful at rest)."""
+        return np.isin(self.log.categories, sorted(AGENT_CATEGORIES))
+
+    # ------------------------------------------------------------------ kinematics
+    @cached_property
+    def yaw_rad(self) -> FloatArray:
+        """``(N, T)`` box heading, radians."""
+        return np.where(self.valid, self.log.yaw_rad, np.nan)
+
+    @cached_property
+    def cos_yaw(self) -> FloatArray:
+        """``(N, T)`` cosine of the heading."""
+        return np.cos(self.yaw_rad)
+
+    @cached_property
+    def sin_yaw(self) -> FloatArray:
+        """``(N, T)`` sine of the heading."""
+        return np.sin(self.yaw_rad)
+
+    @cached_property
+    def length_m(self) -> FloatArray:
+        """``(N, T)`` box length, metres."""
+        return np.where(self.valid, self.log.length_m, np.nan)
+
+    @cached_property
+    def width_m(self) -> FloatArray:
+        """``(N, T)`` box width, metres."""
+        return np.where(self.valid, self.log.width_m, np.nan)
+
+    @cached_property
+    def center_xy_m(self) -> tuple[FloatArray, FloatArray]:
+        """``(N, T)`` x and y of the box centres, world frame.
+
+        Equal to the log positions except for an Argoverse 2 ego, whose reported position is its
+        rear axle: its centre is moved :attr:`MiningConfig.av2_ego_center_offset_m` forward.
+        """
+        x = np.where(self.valid, self.log.x_m, np.nan)
+        y = np.where(self.valid, self.log.y_m, np.nan)
+        offset = self.config.av2_ego_center_offset_m
+        e = self.ego_index
+        if self.log.dataset == "av2" and self.log.categories[e] == EGO_CATEGORY and offset:
+            x = x.copy()
+            y = y.copy()
+            x[e] += offset * self.cos_yaw[e]
+            y[e] += offset * self.sin_yaw[e]
+        return x, y
+
+    @property
+    def cx_m(self) -> FloatArray:
+        """``(N, T)`` box centre x, world frame."""
+        return self.center_xy_m[0]
+
+    @property
+    def cy_m(self) -> FloatArray:
+        """``(N, T)`` box centre y, world frame."""
+        return self.center_xy_m[1]
+
+    @cached_property
+    def speed_mps(self) -> FloatArray:
+        """``(N, T)`` ground speed, m/s."""
+        return np.where(self.valid, np.hypot(self.log.vx_mps, self.log.vy_mps), np.nan)
+
+    @cached_property
+    def v_body_mps(self) -> tuple[FloatArray, FloatArray]:
+        """``(N, T)`` velocity in the box frame: (forward, leftward), m/s."""
+        vx, vy = self.log.vx_mps, self.log.vy_mps
+        return self.cos_yaw * vx + self.sin_yaw * vy, -self.sin_yaw * vx + self.cos_yaw * vy
+
+    @cached_property
+    def a_body_mps2(self) -> tuple[FloatArray, FloatArray]:
+        """``(N, T)`` acceleration in the box frame: (forward, leftward), m/s²."""
+        ax, ay = self.log.ax_mps2, self.log.ay_mps2
+        return self.cos_yaw * ax + self.sin_yaw * ay, -self.sin_yaw * ax + self.cos_yaw * ay
+
+    @cached_property
+    def yaw_rate_deg_s(self) -> FloatArray:
+        """``(N, T)`` heading rate, degrees per second, counter-clockwise (left) positive."""
+        return np.degrees(_wrapped_rate(self.yaw_rad, self.t_s))
+
+    @cached_property
+    def travel_direction_rad(self) -> FloatArray:
+        """``(N, T)`` direction of travel (radians).
+
+        The velocity direction when at least :attr:`MiningConfig.heading_min_speed_mps` fast,
+        else the box heading for agents (:data:`AGENT_CATEGORIES`), else NaN.
+        """
+        moving = self.speed_mps >= self.config.heading_min_speed_mps
+        vel_dir = np.arctan2(self.log.vy_mps, self.log.vx_mps)
+        out = np.where(moving, vel_dir, np.where(self.is_agent[:, None], self.yaw_rad, np.nan))
+        return np.where(self.valid, out, np.nan)
+
+    @cached_property
+    def displacement_extent_m(self) -> FloatArray:
+        """``(N,)`` diagonal of the bounding box of each track's observed centres, metres."""
+        x, y = self.center_xy_m
+        has = self.valid.any(axis=1)
+
+        def extent(a: FloatArray) -> FloatArray:
+            hi = np.where(self.valid, a, -np.inf).max(axis=1, initial=-np.inf)
+            lo = np.where(self.valid, a, np.inf).min(axis=1, initial=np.inf)
+            return np.where(has, hi - lo, 0.0)
+
+        dx, dy = extent(x), extent(y)
+        return np.asarray(np.hypot(dx, dy))
+
+    def memo(self, key: tuple[Any, ...], compute: Callable[[], Any]) -> Any:
+        """Return ``compute()`` cached under ``key`` for the lifetime of this context.
+
+        Predicates use it for per-log results that do not depend on the candidates (e.g. the
+        turning mask of every track), so several programs on one log share them.
+        """
+        if key not in self._memo:
+            self._memo[key] = compute()
+        return self._memo[key]
+
+    # ------------------------------------------------------------------ pairwise geometry
+    def _cached(self, kind: str, rows: IntArray, cols: IntArray, compute: Callable[[], Any]) -> Any:
+        key = (kind, rows.tobytes(), cols.tobytes())
+        hit = self._pair_cache.get(key)
+        if hit is not None:
+            self._pair_cache.move_to_end(key)
+            return hit
+        value = compute()
+        self._pair_cache[key] = value
+        if len(self._pair_cache) > _PAIR_CACHE_ENTRIES:
+            self._pair_cache.popitem(last=False)
+        return value
+
+    def relative_position(self, rows: IntArray, cols: IntArray) -> tuple[FloatArray, FloatArray]:
+        """Centres of tracks ``cols`` in the box frames of tracks ``rows``.
+
+        Args:
+            rows: ``(R,)`` track indices whose frames are used (the subjects).
+            cols: ``(C,)`` track indices whose centres are expressed (the references).
+
+        Returns:
+            ``(x_m, y_m)``, each ``(R, C, T)``: forward and leftward offset in metres; NaN where
+            either track is absent.
+        """
+        rows = np.asarray(rows, dtype=np.int64)
+        cols = np.asarray(cols, dtype=np.int64)
+
+        def compute() -> tuple[FloatArray, FloatArray]:
+            x, y = self.center_xy_m
+            dx = x[cols][None, :, :] - x[rows][:, None, :]
+            dy = y[cols][None, :, :] - y[rows][:, None, :]
+            c, s = self.cos_yaw[rows][:, None, :], self.sin_yaw[rows][:, None, :]
+            return c * dx + s * dy, -s * dx + c * dy
+
+        result: tuple[FloatArray, FloatArray] = self._cached("relpos", rows, cols, compute)
+        return result
+
+    def relative_velocity(self, rows: IntArray, cols: IntArray) -> tuple[FloatArray, FloatArray]:
+        """World velocities of tracks ``cols`` rotated into the box frames of ``rows``.
+
+        Returns:
+            ``(vx_mps, vy_mps)``, each ``(R, C, T)``: forward and leftward components of the
+            reference track's own ground velocity (not the difference of velocities).
+        """
+        rows = np.asarray(rows, dtype=np.int64)
+        cols = np.asarray(cols, dtype=np.int64)
+
+        def compute() -> tuple[FloatArray, FloatArray]:
+            vx = self.log.vx_mps[cols][None, :, :]
+            vy = self.log.vy_mps[cols][None, :, :]
+            c, s = self.cos_yaw[rows][:, None, :], self.sin_yaw[rows][:, None, :]
+            return c * vx + s * vy, -s * vx + c * vy
+
+        result: tuple[FloatArray, FloatArray] = self._cached("relvel", rows, cols, compute)
+        return result
+
+    def box_distance(self, rows: IntArray, cols: IntArray) -> FloatArray:
+        """``(R, C, T)`` minimum footprint-to-footprint distance (m) between tracks; 0 if touching."""
+        rows = np.asarray(rows, dtype=np.int64)
+        cols = np.asarray(cols, dtype=np.int64)
+
+        def compute() -> FloatArray:
+            x, y = self.center_xy_m
+            t = self.n_timestamps
+            out = np.empty((rows.size, cols.size, t))
+            step = max(1, _CHUNK_CELLS // max(1, cols.size * t))
+            b = tuple(a[cols][None, :, :] for a in (x, y, self.yaw_rad, self.length_m, self.width_m))
+            for start in range(0, rows.size, step):
+                r = rows[start : start + step]
+                a = tuple(arr[r][:, None, :] for arr in (x, y, self.yaw_rad, self.length_m, self.width_m))
+                out[start : start + step] = box_distance(a, b)  # type: ignore[arg-type]
+            return out
+
+        result: FloatArray = self._cached("boxdist", rows, cols, compute)
+        return result
+
+    @cached_property
+    def box_polygons(self) -> NDArray[np.object_]:
+        """``(N, T)`` shapely footprints of every box (``None`` where the track is absent)."""
+        x, y = self.center_xy_m
+        c, s = self.cos_yaw, self.sin_yaw
+        hl, hw = self.length_m / 2, self.width_m / 2
+        corners = [
+            np.stack([x + sl * hl * c - sw * hw * s, y + sl * hl * s + sw * hw * c], -1)
+            for sl, sw in ((1, 1), (-1, 1), (-1, -1), (1, -1), (1, 1))
+        ]
+        coords = np.stack(corners, axis=-2)  # (N, T, 5, 2)
+        out = np.full(x.shape, None, dtype=object)
+        ok = np.isfinite(coords).all(axis=(-1, -2))
+        if ok.any():
+            out[ok] = shapely.polygons(coords[ok])
+        return out
+
+    # ------------------------------------------------------------------ HD map
+    @cached_property
+    def _map(self) -> MapIndex | None:
+        if self._map_given is not None:
+            return MapIndex.from_map(self._map_given)
+        if self.log.map_dir is None:
+            return None
+        return MapIndex(read_av2_map(self.log.map_dir))
+
+    @property
+    def has_map(self) -> bool:
+        """Whether an HD map is available (loads it on first call)."""
+        return self._map is not None
+
+    def require_map(self, predicate: str) -> MapIndex:
+        """The map index, or :class:`MapRequiredError` naming ``predicate`` when there is none."""
+        m = self._map
+        if m is None:
+            raise MapRequiredError(predicate, self.log_id)
+        return m
+
+    def lane_index(self, predicate: str) -> IntArray:
+        """``(N, T)`` index of the lane segment under each box centre (-1: none), computed once.
+
+        Where lanes overlap (intersections, merges) the lane whose direction is closest to the
+        box heading wins.
+
+        Raises:
+            MapRequiredError: the log has no map; names ``predicate``.
+        """
+        self.require_map(predicate)
+        return self._lanes[0]
+
+    def lane_direction_rad(self, predicate: str) -> FloatArray:
+        """``(N, T)`` local direction (radians) of the lane under each box centre (NaN: none)."""
+        self.require_map(predicate)
+        return self._lanes[1]
+
+    @cached_property
+    def _lanes(self) -> tuple[IntArray, FloatArray]:
+        hd = self.require_map("lane_index")
+        x, y = self.center_xy_m
+        return hd.lanes_at(x, y, self.yaw_rad)
