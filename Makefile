@@ -6,22 +6,36 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 EXTRAS ?= llm,embed,av2eval,mine,dev
-# llama.cpp must not use the AMX tiles of these CPUs (a default build segfaults in decode).
-LLAMA_CMAKE_ARGS := -DGGML_NATIVE=OFF -DGGML_AVX2=ON -DGGML_FMA=ON -DGGML_F16C=ON -DGGML_AVX512=ON -DGGML_AMX_INT8=OFF -DGGML_AMX_TILE=OFF
+# llama.cpp is built for a portable AVX2 CPU: a native build enables AMX tiles (segfault in decode on
+# some of these machines) and AVX-512 (SIGILL on others).
+LLAMA_CMAKE_ARGS := -DGGML_NATIVE=OFF -DGGML_AVX2=ON -DGGML_FMA=ON -DGGML_F16C=ON -DGGML_AVX512=OFF -DGGML_AMX_INT8=OFF -DGGML_AMX_TILE=OFF
 STAMP  := $(VENV)/.installed-$(shell cat pyproject.toml | sha256sum | cut -c1-12)
+# llama-cpp-python is compiled once into this wheelhouse and reused by every later install
+# (CI on the same machine included), because the build takes minutes on 2 cores.
+LLAMA_VERSION := 0.3.16
+WHEELHOUSE ?= $(HOME)/.cache/scenariominer/wheels
+LLAMA_WHEEL_STAMP := $(WHEELHOUSE)/.llama-cpp-python-$(LLAMA_VERSION)
 DEMO_OUT ?= demo-out
 
 .PHONY: install demo test lint typecheck unit bench clean
 
 install: $(STAMP)
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml $(LLAMA_WHEEL_STAMP)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PIP) install --quiet --upgrade pip wheel setuptools
 	# CPU build of torch from the local wheel (an unpinned torch pulls GB of CUDA packages).
 	$(PIP) install --quiet torch==2.13.0
-	CMAKE_ARGS="$(LLAMA_CMAKE_ARGS)" FORCE_CMAKE=1 $(PIP) install --quiet -e ".[$(EXTRAS)]"
+	$(PIP) install --quiet --find-links $(WHEELHOUSE) -e ".[$(EXTRAS)]"
 	rm -f $(VENV)/.installed-*
+	touch $@
+
+$(LLAMA_WHEEL_STAMP):
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	mkdir -p $(WHEELHOUSE)
+	@echo "building llama-cpp-python $(LLAMA_VERSION) for this CPU (AMX off; about 5 minutes, once)"
+	CMAKE_ARGS="$(LLAMA_CMAKE_ARGS)" FORCE_CMAKE=1 $(PIP) wheel --quiet --no-deps --no-cache-dir \
+		--wheel-dir $(WHEELHOUSE) llama-cpp-python==$(LLAMA_VERSION)
 	touch $@
 
 demo: install

@@ -195,6 +195,15 @@ def demo(
     del cfg
 
 
+def _mount_subcommands() -> None:
+    from scenariominer.llm import cli as llm_cli
+
+    app.add_typer(llm_cli.app, name="llm", help="Language-model and embedding backends.")
+
+
+_mount_subcommands()
+
+
 def main() -> None:
     """Console-script entry point."""
     app()

@@ -22,15 +22,22 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from scenariominer.config.data import IngestConfig, PreprocessConfig, StoreConfig
+from scenariominer.config.explain import ExplainConfig
 from scenariominer.config.llm import EmbeddingConfig, LLMConfig
+from scenariominer.config.mining import MiningConfig
 from scenariominer.config.tags import TagConfig
 
 __all__ = [
     "Config",
     "ConfigError",
+    "EmbeddingConfig",
+    "ExplainConfig",
     "IngestConfig",
+    "LLMConfig",
+    "MiningConfig",
     "PreprocessConfig",
     "StoreConfig",
+    "TagConfig",
     "load_config",
 ]
 
@@ -51,6 +58,8 @@ class Config:
     llm: LLMConfig = field(default_factory=LLMConfig)
     embedding: EmbeddingConfig = field(default_factory=EmbeddingConfig)
     tags: TagConfig = field(default_factory=TagConfig)
+    explain: ExplainConfig = field(default_factory=ExplainConfig)
+    mining: MiningConfig = field(default_factory=MiningConfig)
 
 
 T = TypeVar("T")
