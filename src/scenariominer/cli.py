@@ -170,34 +170,84 @@ def synth(
 def demo(
     out: Annotated[Path, typer.Option("--out", "-o", help="Working folder for the demo.")] = Path("demo-out"),
     n: Annotated[int, typer.Option("--n", "-n", min=1, help="Synthetic logs to generate.")] = 24,
+    llm_events: Annotated[
+        int,
+        typer.Option("--llm-events", min=0, help="Braking events the embedded LLM classifies (slow on CPU)."),
+    ] = 6,
     av2: Annotated[
         list[Path] | None,
         typer.Option("--av2", help="Argoverse 2 logs to ingest (default: the shared sample)."),
     ] = None,
     config: ConfigOpt = None,
 ) -> None:
-    """Run the main job on the embedded defaults: sample AV2 log + synthetic set into a fresh store."""
-    cfg = _config(config)
+    """Run the main job on the embedded defaults.
+
+    Generates a labelled synthetic set, ingests it with the Argoverse 2 sample log into a fresh
+    store, explains braking events with the embedded LLM, searches them both ways, draws one,
+    and mines the sample log for "vehicle with a bicycle to its right" scored by the official metric.
+    """
+    from scenariominer.explain import cli as explain_cli
+    from scenariominer.mine import cli as mine_cli
+
+    _config(config)  # fail early on a bad file
     av2_paths = list(av2 or [])
     if not av2_paths:
         sample = api.find_sample_av2()
         if sample is None:
             err_console.print(
-                "[yellow]no Argoverse 2 sample found beside the checkout; using synthetic data only[/yellow]"
+                "[yellow]no Argoverse 2 sample beside the checkout; using synthetic data only[/yellow]"
             )
         else:
             av2_paths.append(sample)
     out.mkdir(parents=True, exist_ok=True)
-    console.rule("[bold]1. synthetic scenarios")
+    store = out / "store"
+    console.rule("[bold]1. synthetic labelled scenarios")
     synth(out=out / "synth", n=n, seed=0, category=None)
-    console.rule("[bold]2. ingestion")
-    ingest(paths=[*av2_paths, out / "synth"], store=out / "store", config=config, force=False, json_out=False)
-    del cfg
+    console.rule("[bold]2. ingestion (validate, interpolate, smooth, store)")
+    ingest(paths=[*av2_paths, out / "synth"], store=store, config=config, force=False, json_out=False)
+    console.rule(f"[bold]3. why braking: tags, key objects, LLM explanations (first {llm_events} events)")
+    explain_cli.analyze(store=store, config=config, limit=llm_events)
+    console.rule("[bold]4. dual-path retrieval")
+    explain_cli.search(query=None, category="cut_in", store=store, config=config, k=5)
+    explain_cli.search(
+        query="The lead vehicle suddenly brakes, requiring the ego vehicle to brake.",
+        store=store,
+        config=config,
+        k=5,
+    )
+    console.rule("[bold]5. program-based mining on the Argoverse 2 sample")
+    pred = out / "mining-predictions.pkl"
+    for path in av2_paths:
+        mine_cli.mine_command(
+            "vehicle with a bicycle to its right",
+            logs=[path],
+            store=store,
+            export=mine_cli.ExportFormat.AV2,
+            out=pred,
+        )
+        gts = sorted(path.glob("scenario_mining_gt_*.pkl")) if path.is_dir() else []
+        if gts and pred.is_file():
+            console.rule("[bold]6. official Argoverse 2 scenario-mining metrics")
+            try:
+                mine_cli.mining_command(pred=pred, gt=gts[0], dataset_dir=path, out=out / "mining-eval")
+            except typer.Exit:
+                err_console.print("[yellow]evaluation skipped (install the av2eval extra)[/yellow]")
+    console.print(f"\ndemo outputs in {out}: store/, synth/labels.csv, mining-predictions.pkl")
 
 
 def _mount_subcommands() -> None:
+    """Attach the feature CLIs (each a thin module next to its feature)."""
+    from scenariominer.eval import cli as eval_cli
+    from scenariominer.explain import cli as explain_cli
     from scenariominer.llm import cli as llm_cli
+    from scenariominer.mine import cli as mine_cli
 
+    explain_cli.register(app)
+    mine_cli.register(app)
+    eval_cli.app.command(
+        "mining", help="Score an Argoverse 2 scenario-mining prediction with the official evaluator."
+    )(mine_cli.mining_command)
+    app.add_typer(eval_cli.app, name="eval", help="Evaluate braking explanations and mining against labels.")
     app.add_typer(llm_cli.app, name="llm", help="Language-model and embedding backends.")
 
 

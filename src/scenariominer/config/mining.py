@@ -13,14 +13,33 @@ Example ``scenariominer.toml``::
 
     [mining.sandbox]
     timeout_s = 10
+
+    [mining.generation]
+    max_attempts = 5
+    few_shot_k = 3
+    reference_style = "compact"
+
+    [mining.clip]
+    model_path = "/models/clip-vit-base-patch32"
+    top_k_crops = 50
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from enum import StrEnum
 
-__all__ = ["MiningConfig", "SandboxConfig"]
+__all__ = ["ClipFilterConfig", "GenerationConfig", "MiningConfig", "ReferenceStyle", "SandboxConfig"]
+
+
+class ReferenceStyle(StrEnum):
+    """How much of the predicate library's documentation goes into the program-synthesis prompt."""
+
+    COMPACT = "compact"
+    """Signature, summary, subject/reference roles and one example per function (~4.5k tokens)."""
+    FULL = "full"
+    """Every signature with its complete docstring (~9k tokens; needs ``llm.n_ctx`` >= 12288)."""
 
 
 @dataclass(frozen=True)
@@ -52,6 +71,96 @@ class SandboxConfig:
             raise ValueError("mining.sandbox: timeout_s, memory_mb and cpu_s must be > 0")
         if self.max_program_chars <= 0 or self.max_ast_nodes <= 0 or self.max_range_len <= 0:
             raise ValueError("mining.sandbox: program size limits must be > 0")
+
+
+@dataclass(frozen=True)
+class GenerationConfig:
+    """How mining programs are written by the language model (fault-tolerant generation loop).
+
+    Attributes:
+        max_attempts: K of the generate-check-run-repair loop: the model gets at most this many
+            tries; after K failures the description is flagged for manual review with every
+            attempt kept (the paper uses K = 5).
+        few_shot_k: number of example programs from the bank shown in the prompt, chosen by
+            embedding similarity of their descriptions to the query (0 disables few-shot).
+        reference_style: ``compact`` or ``full`` library documentation in the prompt (see
+            :class:`ReferenceStyle`); ``full`` needs a context window of about 12k tokens.
+        max_tokens: upper bound on the tokens of one generated program (a mining program is
+            5-15 lines, about 100-250 tokens); bounds the time a rambling answer costs.
+        examples_files: extra example-bank TOML files (same format as the shipped bank) whose
+            programs join the few-shot pool; an entry with a shipped description replaces it.
+        validation_logs: how many of the logs being mined a candidate program must run on
+            without error before it is accepted (the first ones given; at least 1).
+        cache_programs: keep the outcome of the loop on disk, keyed by description, model,
+            prompt version and prompt text, so mining the same description again costs nothing.
+    """
+
+    max_attempts: int = 5
+    few_shot_k: int = 3
+    reference_style: ReferenceStyle = ReferenceStyle.COMPACT
+    max_tokens: int = 400
+    examples_files: tuple[str, ...] = ()
+    validation_logs: int = 1
+    cache_programs: bool = True
+
+    def __post_init__(self) -> None:
+        try:
+            object.__setattr__(self, "reference_style", ReferenceStyle(self.reference_style))
+        except ValueError:
+            raise ValueError(
+                f"mining.generation.reference_style must be one of {[s.value for s in ReferenceStyle]}, "
+                f"got {self.reference_style!r}"
+            ) from None
+        if self.max_attempts < 1:
+            raise ValueError(f"mining.generation.max_attempts must be >= 1, got {self.max_attempts}")
+        if self.few_shot_k < 0:
+            raise ValueError(f"mining.generation.few_shot_k must be >= 0, got {self.few_shot_k}")
+        if self.max_tokens < 16:
+            raise ValueError(f"mining.generation.max_tokens must be >= 16, got {self.max_tokens}")
+        if self.validation_logs < 1:
+            raise ValueError(f"mining.generation.validation_logs must be >= 1, got {self.validation_logs}")
+
+
+@dataclass(frozen=True)
+class ClipFilterConfig:
+    """The optional coarse-to-fine filter: CLIP similarity of object crops to query keywords.
+
+    Attributes:
+        model_path: folder of a CLIP model saved with ``save_pretrained`` (Hugging Face
+            ``transformers`` layout: ``config.json``, weights, tokenizer and processor files).
+            Never downloaded; empty disables the filter.
+        top_k_crops: the crops most similar to the keywords that are kept; their tracks become the
+            candidate tracklets.
+        min_similarity: crops below this cosine similarity are never kept, even inside the top K
+            (-1 keeps the top K whatever their score).
+        tracklet_margin_s: each kept crop makes its track a candidate from this many seconds
+            before to this many seconds after the crop's timestamp (crops are sparse in time;
+            the program needs a little context to measure motion).
+        batch_size: crops per CLIP forward pass.
+        text_template: how a keyword phrase is put to the text encoder (``{}`` is the phrase).
+        use_spatial_keywords: also embed spatial words ("left", "behind"); crops show one object,
+            so by default only colour and object phrases are matched against them.
+    """
+
+    model_path: str = ""
+    top_k_crops: int = 50
+    min_similarity: float = -1.0
+    tracklet_margin_s: float = 1.0
+    batch_size: int = 32
+    text_template: str = "a photo of a {}"
+    use_spatial_keywords: bool = False
+
+    def __post_init__(self) -> None:
+        if self.top_k_crops < 1:
+            raise ValueError(f"mining.clip.top_k_crops must be >= 1, got {self.top_k_crops}")
+        if not -1.0 <= self.min_similarity <= 1.0:
+            raise ValueError(f"mining.clip.min_similarity must be in [-1, 1], got {self.min_similarity}")
+        if not self.tracklet_margin_s >= 0:
+            raise ValueError(f"mining.clip.tracklet_margin_s must be >= 0, got {self.tracklet_margin_s}")
+        if self.batch_size < 1:
+            raise ValueError(f"mining.clip.batch_size must be >= 1, got {self.batch_size}")
+        if "{}" not in self.text_template:
+            raise ValueError("mining.clip.text_template must contain '{}' where the keyword goes")
 
 
 @dataclass(frozen=True)
@@ -119,6 +228,8 @@ class MiningConfig:
         postprocess_max_relation_distance_m: relations whose objects never come closer than this
             (metres, centre to centre) are dropped (RefAV: 50 m, the annotation verification range).
         sandbox: limits for running untrusted programs.
+        generation: the language-model program-generation loop.
+        clip: the optional CLIP crop filter.
     """
 
     side_max_distance_m: float = 4.0
@@ -147,6 +258,8 @@ class MiningConfig:
     postprocess_min_run_timestamps: int = 3
     postprocess_max_relation_distance_m: float = 50.0
     sandbox: SandboxConfig = field(default_factory=SandboxConfig)
+    generation: GenerationConfig = field(default_factory=GenerationConfig)
+    clip: ClipFilterConfig = field(default_factory=ClipFilterConfig)
 
     def __post_init__(self) -> None:
         positive = {

@@ -1,0 +1,537 @@
+"""The braking-explanation pipeline over a store (braking paper, Fig. 2).
+
+For each log: load → :func:`~scenariominer.tags.tag_log` → store the ``tags`` table →
+:func:`~scenariominer.events.find_key_objects` → per event: analysis window, criticality,
+structured description, rule-based baseline, LLM understanding → embed the rephrased
+descriptions → store ``events``, ``event_embeddings`` and the per-log ``braking_runs`` row in one
+atomic write.
+
+:func:`analyze_log` is the pure stage (a log in, records out); :func:`analyze_store` is the I/O
+shell: incremental (a log whose ``braking_runs`` row has the same fingerprint and is complete is
+skipped unless ``force``), bounded (``limit`` caps the fresh LLM calls of a run; the remaining
+events are stored as ``pending`` and a later run finishes them, cached answers being free), and
+robust (a log that cannot be analysed is recorded as ``failed`` with the reason, an invalid LLM
+answer as category ``invalid``; neither stops the batch).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import hashlib
+import json
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from datetime import UTC, datetime
+from enum import StrEnum
+
+import numpy as np
+import pyarrow as pa
+
+from scenariominer.config import Config
+from scenariominer.data.log import Log
+from scenariominer.events.criticality import event_criticality
+from scenariominer.events.describe import describe_segments
+from scenariominer.events.keyident import KeyEvent, find_key_objects
+from scenariominer.events.segments import pair_tags, segment_pair
+from scenariominer.explain.baseline import baseline_category
+from scenariominer.explain.categories import PENDING_CATEGORY, CategorySet, load_categories
+from scenariominer.explain.classify import Classification, ClassificationStatus, classify_description
+from scenariominer.explain.prompts import PROMPT_VERSION
+from scenariominer.explain.records import (
+    EMBEDDINGS_TABLE,
+    EVENTS_TABLE,
+    RUNS_SCHEMA,
+    RUNS_TABLE,
+    TAGS_TABLE,
+    EventRecord,
+    events_table,
+)
+from scenariominer.llm.client import ChatClient
+from scenariominer.llm.embeddings import Embedder
+from scenariominer.progress import NullProgress, Progress, step
+from scenariominer.store import ScenarioStore, UnknownLogError, UnknownTableError
+from scenariominer.store.vectors import embeddings_table
+from scenariominer.tags.engine import LogTags, tag_log
+
+__all__ = [
+    "AnalyzeReport",
+    "LogAnalysis",
+    "LogOutcome",
+    "LogStatus",
+    "analysis_fingerprint",
+    "analyze_log",
+    "analyze_store",
+]
+
+
+class LogStatus(StrEnum):
+    """What a run did with a log.
+
+    Attributes:
+        ANALYZED: events found (possibly none), described, classified and stored.
+        UNCHANGED: skipped; stored results have the same fingerprint and are complete.
+        NO_EGO_MOTION: the ego never moves, so there is no braking to explain (tags stored, no events).
+        FAILED: the log could not be analysed; the error is recorded.
+    """
+
+    ANALYZED = "analyzed"
+    UNCHANGED = "unchanged"
+    NO_EGO_MOTION = "no_ego_motion"
+    FAILED = "failed"
+
+
+@dataclass(frozen=True, eq=False)
+class LogOutcome:
+    """Result of the pure stage on one log.
+
+    Attributes:
+        tags: the log's tags.
+        records: one record per KeyIdent event, embedding fields still empty.
+        texts: the text to embed for each record (rephrased description, else the tag description).
+        status: ``ANALYZED`` or ``NO_EGO_MOTION``.
+        notes: data problems met (``; ``-joined into the runs table).
+        classifications: the LLM outcome of each record.
+    """
+
+    tags: LogTags
+    records: tuple[EventRecord, ...]
+    texts: tuple[str, ...]
+    status: LogStatus
+    notes: tuple[str, ...]
+    classifications: tuple[Classification, ...]
+
+
+@dataclass(frozen=True)
+class LogAnalysis:
+    """What :func:`analyze_store` did with one log.
+
+    Attributes:
+        log_id: the log.
+        status: see :class:`LogStatus`.
+        n_events: events stored for the log.
+        n_llm_calls: events sent to the LLM that were not answered from the cache.
+        n_cached: events answered from the LLM cache.
+        n_invalid: events whose answer stayed invalid after the repair round.
+        n_errors: events whose LLM call failed.
+        n_pending: events not classified because the run's limit was reached.
+        llm_seconds: seconds spent in the LLM for this log.
+        seconds: wall time for the log.
+        error: the failure, for failed logs.
+        notes: data problems met.
+    """
+
+    log_id: str
+    status: LogStatus
+    n_events: int = 0
+    n_llm_calls: int = 0
+    n_cached: int = 0
+    n_invalid: int = 0
+    n_errors: int = 0
+    n_pending: int = 0
+    llm_seconds: float = 0.0
+    seconds: float = 0.0
+    error: str = ""
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class AnalyzeReport:
+    """Result of :func:`analyze_store`.
+
+    Attributes:
+        logs: one entry per log considered, in order.
+        fingerprint: the run's analysis fingerprint.
+        seconds: wall time of the run.
+    """
+
+    logs: tuple[LogAnalysis, ...]
+    fingerprint: str
+    seconds: float
+
+    def _count(self, status: LogStatus) -> int:
+        return sum(1 for r in self.logs if r.status is status)
+
+    @property
+    def n_analyzed(self) -> int:
+        """Logs analysed in this run."""
+        return self._count(LogStatus.ANALYZED)
+
+    @property
+    def n_unchanged(self) -> int:
+        """Logs skipped because their stored results are current."""
+        return self._count(LogStatus.UNCHANGED)
+
+    @property
+    def n_failed(self) -> int:
+        """Logs that could not be analysed."""
+        return self._count(LogStatus.FAILED)
+
+    @property
+    def n_events(self) -> int:
+        """Events stored in this run."""
+        return sum(r.n_events for r in self.logs)
+
+    @property
+    def n_llm_calls(self) -> int:
+        """Events classified by fresh (non-cached) LLM calls."""
+        return sum(r.n_llm_calls for r in self.logs)
+
+    @property
+    def n_pending(self) -> int:
+        """Events left unclassified because of the limit."""
+        return sum(r.n_pending for r in self.logs)
+
+    @property
+    def n_invalid(self) -> int:
+        """Events whose LLM answer stayed invalid."""
+        return sum(r.n_invalid for r in self.logs)
+
+    @property
+    def llm_seconds(self) -> float:
+        """Seconds spent in the LLM."""
+        return sum(r.llm_seconds for r in self.logs)
+
+    @property
+    def mean_llm_latency_s(self) -> float:
+        """Mean seconds per fresh LLM classification (NaN when there was none)."""
+        return self.llm_seconds / self.n_llm_calls if self.n_llm_calls else math.nan
+
+    def to_json(self) -> str:
+        """The report as JSON (for scripts)."""
+        data = asdict(self)
+        data.update(
+            n_analyzed=self.n_analyzed,
+            n_unchanged=self.n_unchanged,
+            n_failed=self.n_failed,
+            n_events=self.n_events,
+            n_llm_calls=self.n_llm_calls,
+            n_pending=self.n_pending,
+            n_invalid=self.n_invalid,
+            llm_seconds=self.llm_seconds,
+            mean_llm_latency_s=None if math.isnan(self.mean_llm_latency_s) else self.mean_llm_latency_s,
+        )
+        return json.dumps(data, default=str, indent=2)
+
+
+def analysis_fingerprint(
+    config: Config, categories: CategorySet, chat_client: ChatClient | None, embedder: Embedder
+) -> str:
+    """Hash of every setting that determines the stored results (a change forces re-analysis).
+
+    Covers the tag and KeyIdent thresholds, the explanation settings that shape descriptions and
+    measures, the categories, the prompt version, the chat model and decoding parameters, and
+    the embedding model.
+    """
+    explain = dataclasses.replace(
+        config.explain, categories_file="", show_past_s=0.0, show_future_s=0.0, search_k=1
+    )
+    payload = {
+        "tags": asdict(config.tags),
+        "explain": asdict(explain),
+        "categories": categories.fingerprint,
+        "prompt": PROMPT_VERSION,
+        "chat": None
+        if chat_client is None
+        else [chat_client.backend.name, chat_client.backend.model, chat_client.params.to_dict()],
+        "embedding": [embedder.backend, embedder.model],
+    }
+    blob = json.dumps(payload, sort_keys=True, default=str)
+    return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+
+def _pending() -> Classification:
+    return Classification(PENDING_CATEGORY, "", "", ClassificationStatus.PENDING)
+
+
+def analyze_log(
+    log: Log,
+    config: Config,
+    categories: CategorySet,
+    chat_client: ChatClient | None,
+    *,
+    llm_budget: int | None = None,
+    fingerprint: str = "",
+) -> LogOutcome:
+    """Tag one log, find its braking events and describe, measure and classify each.
+
+    Args:
+        log: a preprocessed log (as stored).
+        config: tag, KeyIdent and explanation settings.
+        categories: the LLM's categories.
+        chat_client: the LLM; ``None`` leaves every event ``pending``.
+        llm_budget: at most this many fresh (non-cached) LLM calls; ``None`` = unbounded. Once
+            it is spent, the remaining events are ``pending``.
+        fingerprint: stored on every record.
+
+    Returns:
+        The tags and records (embedding fields empty; :func:`analyze_store` fills them).
+    """
+    cfg = config.explain
+    tags = tag_log(log, config.tags)
+    notes: list[str] = list(log.notes)
+    ego_speed = log.speed_mps[log.ego_index]
+    top_speed = float(np.nanmax(ego_speed)) if np.isfinite(ego_speed).any() else 0.0
+    if top_speed < cfg.min_ego_speed_mps:
+        notes.append(
+            f"the ego never reaches {cfg.min_ego_speed_mps:g} m/s (top speed {top_speed:.2f} m/s): "
+            "no braking to explain"
+        )
+        return LogOutcome(tags, (), (), LogStatus.NO_EGO_MOTION, tuple(notes), ())
+    events = find_key_objects(tags, config.tags.keyident)
+    records: list[EventRecord] = []
+    texts: list[str] = []
+    outcomes: list[Classification] = []
+    fresh_calls = 0
+    llm_model = "" if chat_client is None else chat_client.backend.model
+    for event in events:
+        record, text, outcome = _analyze_event(
+            log,
+            tags,
+            event,
+            config,
+            categories,
+            chat_client if llm_budget is None or fresh_calls < llm_budget else None,
+            llm_model,
+            fingerprint,
+        )
+        if outcome.status is not ClassificationStatus.PENDING and not outcome.cached:
+            fresh_calls += 1
+        records.append(record)
+        texts.append(text)
+        outcomes.append(outcome)
+    return LogOutcome(tags, tuple(records), tuple(texts), LogStatus.ANALYZED, tuple(notes), tuple(outcomes))
+
+
+def _analyze_event(
+    log: Log,
+    tags: LogTags,
+    event: KeyEvent,
+    config: Config,
+    categories: CategorySet,
+    chat_client: ChatClient | None,
+    llm_model: str,
+    fingerprint: str,
+) -> tuple[EventRecord, str, Classification]:
+    cfg = config.explain
+    notes: list[str] = []
+    pair = pair_tags(
+        tags,
+        event.track_id,
+        event.start_ns,
+        event.end_ns,
+        context_before_s=cfg.context_before_s,
+        context_after_s=cfg.context_after_s,
+    )
+    if pair.guest_frames < 3:
+        notes.append(f"the guest is observed in only {pair.guest_frames} frame(s) of the window")
+    description = describe_segments(segment_pair(pair, cfg.min_segment_s))
+    crit = event_criticality(log, tags, event.track_id, event.start_ns, event.end_ns, cfg)
+    baseline = baseline_category(pair)
+    if chat_client is None:
+        outcome = _pending()
+    else:
+        outcome = classify_description(
+            chat_client, description, categories, config.tags, max_tokens=cfg.llm_max_tokens
+        )
+    if outcome.status is ClassificationStatus.INVALID:
+        notes.append("the LLM answer was invalid after the repair round")
+    use_llm_text = outcome.is_valid and bool(outcome.description)
+    record = EventRecord(
+        event_id=event.event_id,
+        log_id=log.log_id,
+        guest_id=event.track_id,
+        guest_category=event.category,
+        start_ns=event.start_ns,
+        end_ns=event.end_ns,
+        start_s=(event.start_ns - int(log.timestamps_ns[0])) * 1e-9,
+        end_s=(event.end_ns - int(log.timestamps_ns[0])) * 1e-9,
+        window_start_ns=int(pair.timestamps_ns[0]),
+        window_end_ns=int(pair.timestamps_ns[-1]),
+        closest_ns=crit.closest_ns,
+        n_frames=event.n_frames,
+        peak_collision=event.peak_collision.value,
+        peak_traj_overlap=event.peak_traj_overlap.value,
+        min_ttc_s=crit.min_ttc_s,
+        min_distance_m=event.min_distance_m,
+        pet_s=crit.pet_s,
+        headway_s=crit.headway_s,
+        peak_decel_mps2=crit.peak_decel_mps2,
+        tag_description=description,
+        baseline_category=baseline,
+        category=outcome.category,
+        llm_status=outcome.status.value,
+        llm_description=outcome.description,
+        explanation=outcome.explanation,
+        llm_raw_answer=outcome.raw_answer,
+        llm_error=outcome.error,
+        llm_attempts=outcome.attempts,
+        llm_latency_s=outcome.latency_s,
+        llm_model=llm_model if outcome.status is not ClassificationStatus.PENDING else "",
+        prompt_version=PROMPT_VERSION,
+        categories_source=categories.source,
+        embedded_text="llm" if use_llm_text else "tags",
+        embedding_model="",
+        embedding_dim=0,
+        notes="; ".join(notes),
+        fingerprint=fingerprint,
+    )
+    return record, (outcome.description if use_llm_text else description), outcome
+
+
+def _runs_row(
+    fingerprint: str,
+    status: LogStatus,
+    records: Sequence[EventRecord],
+    error: str,
+    notes: Sequence[str],
+    s: float,
+) -> pa.Table:
+    n_pending = sum(1 for r in records if r.llm_status == ClassificationStatus.PENDING.value)
+    row = {
+        "fingerprint": [fingerprint],
+        "status": [status.value],
+        "complete": [status is not LogStatus.FAILED and n_pending == 0],
+        "n_events": [len(records)],
+        "n_classified": [len(records) - n_pending],
+        "n_pending": [n_pending],
+        "error": [error],
+        "notes": ["; ".join(notes)],
+        "seconds": [s],
+        "analyzed_at": [datetime.now(UTC).isoformat()],
+    }
+    return pa.table(row, schema=RUNS_SCHEMA)
+
+
+def _current_runs(store: ScenarioStore) -> dict[str, tuple[str, bool]]:
+    """``log_id → (fingerprint, complete)`` of the stored runs table (empty when absent)."""
+    try:
+        table = store.read_table(RUNS_TABLE)
+    except UnknownTableError:
+        return {}
+    ids = table.column("log_id").to_pylist()
+    fps = table.column("fingerprint").to_pylist()
+    done = table.column("complete").to_pylist()
+    return {str(i): (str(f), bool(c)) for i, f, c in zip(ids, fps, done, strict=True)}
+
+
+def analyze_store(
+    store: ScenarioStore,
+    config: Config,
+    chat_client: ChatClient | None,
+    embedder: Embedder,
+    log_ids: Sequence[str] | None = None,
+    progress: Progress | None = None,
+    *,
+    force: bool = False,
+    limit: int | None = None,
+    categories: CategorySet | None = None,
+) -> AnalyzeReport:
+    """Explain the braking events of every log in a store (see the module docstring).
+
+    Args:
+        store: the store; logs are read from it and results written back.
+        config: settings (``tags``, ``explain``).
+        chat_client: the LLM (``None``: events are stored as ``pending``).
+        embedder: embeds the rephrased descriptions (its model is recorded with every vector).
+        log_ids: the logs to analyse; ``None`` means every log in the store.
+        progress: progress sink.
+        force: re-analyse logs whose stored results are current.
+        limit: at most this many fresh LLM calls in this run (``None`` = no limit).
+        categories: the LLM's categories; defaults to ``config.explain.categories_file`` or the
+            paper's.
+
+    Returns:
+        What happened to each log.
+
+    Raises:
+        CategoryFileError: the configured category file is unusable.
+        UnknownLogError: a requested log is not in the store.
+    """
+    t_run = time.perf_counter()
+    progress = progress or NullProgress()
+    categories = categories or load_categories(config.explain.categories_file)
+    fingerprint = analysis_fingerprint(config, categories, chat_client, embedder)
+    ids = list(store.log_ids() if log_ids is None else log_ids)
+    known = set(store.log_ids())
+    missing = [i for i in ids if i not in known]
+    if missing:
+        raise UnknownLogError(missing[0])
+    runs = {} if force else _current_runs(store)
+    budget = limit
+    results: list[LogAnalysis] = []
+    with step(progress, "analyze", len(ids)):
+        for log_id in ids:
+            if runs.get(log_id) == (fingerprint, True):
+                results.append(LogAnalysis(log_id, LogStatus.UNCHANGED))
+                progress.advance(1, f"unchanged {log_id[:8]}")
+                continue
+            result = _analyze_and_store(
+                store, log_id, config, categories, chat_client, embedder, budget, fingerprint
+            )
+            if budget is not None:
+                budget = max(0, budget - result.n_llm_calls)
+            results.append(result)
+            progress.advance(1, f"{result.status.value} {log_id[:8]} ({result.n_events} events)")
+    return AnalyzeReport(tuple(results), fingerprint, time.perf_counter() - t_run)
+
+
+def _analyze_and_store(
+    store: ScenarioStore,
+    log_id: str,
+    config: Config,
+    categories: CategorySet,
+    chat_client: ChatClient | None,
+    embedder: Embedder,
+    budget: int | None,
+    fingerprint: str,
+) -> LogAnalysis:
+    t0 = time.perf_counter()
+    try:
+        log = store.load_log(log_id)
+        outcome = analyze_log(
+            log, config, categories, chat_client, llm_budget=budget, fingerprint=fingerprint
+        )
+        records = list(outcome.records)
+        if records:
+            emb = embedder.embed(list(outcome.texts))
+            records = [
+                dataclasses.replace(r, embedding_model=emb.model, embedding_dim=emb.dim) for r in records
+            ]
+            emb_table = embeddings_table([r.event_id for r in records], emb.vectors, emb.model)
+        else:
+            emb_table = embeddings_table([], np.zeros((0, 1), dtype=np.float32), embedder.model)
+        seconds = time.perf_counter() - t0
+        store.write_tables(
+            log_id,
+            {
+                TAGS_TABLE: outcome.tags.to_arrow(),
+                EVENTS_TABLE: events_table(records),
+                EMBEDDINGS_TABLE: emb_table,
+                RUNS_TABLE: _runs_row(fingerprint, outcome.status, records, "", outcome.notes, seconds),
+            },
+        )
+    except Exception as exc:  # noqa: BLE001 - one bad log must not stop the batch; the cause is recorded
+        error = f"{type(exc).__name__}: {exc}"
+        seconds = time.perf_counter() - t0
+        with contextlib.suppress(Exception):  # recording the failure is best effort
+            store.write_table(
+                log_id, RUNS_TABLE, _runs_row(fingerprint, LogStatus.FAILED, [], error, [], seconds)
+            )
+        return LogAnalysis(log_id, LogStatus.FAILED, seconds=seconds, error=error)
+    cls = outcome.classifications
+    return LogAnalysis(
+        log_id=log_id,
+        status=outcome.status,
+        n_events=len(records),
+        n_llm_calls=sum(1 for c in cls if c.status is not ClassificationStatus.PENDING and not c.cached),
+        n_cached=sum(1 for c in cls if c.cached),
+        n_invalid=sum(1 for c in cls if c.status is ClassificationStatus.INVALID),
+        n_errors=sum(1 for c in cls if c.status is ClassificationStatus.ERROR),
+        n_pending=sum(1 for c in cls if c.status is ClassificationStatus.PENDING),
+        llm_seconds=sum(c.latency_s for c in cls),
+        seconds=seconds,
+        notes=outcome.notes,
+    )

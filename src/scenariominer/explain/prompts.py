@@ -1,0 +1,95 @@
+"""Prompts of LLM scenario understanding (braking paper, section III-D.2, Fig. 4d), versioned.
+
+The prompt has the paper's four parts: a role and instructions, the known scenario categories
+with their definitions, the scenario description, and the JSON output format with the keys
+``description``, ``category`` and ``explanation``. Everything that is the same for every event
+(role, how to read the tags, categories, output format) is in the system message and the
+description alone is the user message, so a backend that keeps its prompt cache (llama.cpp does)
+evaluates the shared prefix once per run instead of once per event.
+
+Changing any text here changes the answers: bump :data:`PROMPT_VERSION`, which is part of the
+analysis fingerprint, so stored results are recomputed.
+"""
+
+from __future__ import annotations
+
+from scenariominer.config.tags import TagConfig
+from scenariominer.explain.categories import NOT_RELEVANT, UNKNOWN_BUT_RELEVANT, CategorySet
+from scenariominer.llm.base import Message, system, user
+
+__all__ = ["PROMPT_VERSION", "build_messages", "system_prompt"]
+
+#: Version of the prompt texts below; stored with every result.
+PROMPT_VERSION = "braking-understanding/1"
+
+_ROLE = (
+    "You are an expert in the safety validation of automated vehicles. You read a rule-based, "
+    "tag-by-tag description of a short driving scenario between the ego vehicle and one other road "
+    "user, the guest, recorded while the ego vehicle braked. Your task is to understand why the ego "
+    "vehicle brakes and to classify the scenario."
+)
+
+_TAG_GUIDE = """How to read the description:
+- Times are seconds from the start of the scenario; "(for X s)" is how long a new value lasts.
+- longitudinal: CRUISING, STANDING_STILL, ACCELERATING, DECELERATING (braking), REVERSING.
+- lateral: FACING_FORWARD; VEERING_LEFT / VEERING_RIGHT (heading change of {veer:.2f} to {turn:.2f} rad, \
+e.g. a lane change); TURNING_LEFT / TURNING_RIGHT (more than {turn:.2f} rad, e.g. a turn at a junction).
+- relative heading of the guest compared with the ego: SAME (same direction), LEFT or RIGHT (moving across \
+the ego's direction), OPPOSITE (oncoming).
+- relative position of the guest seen from the ego: FRONT, FRONT_LEFT, LEFT, BACK_LEFT, BACK, BACK_RIGHT, \
+RIGHT, FRONT_RIGHT.
+- distance between the two boxes: VERY_CLOSE (almost touching), CLOSE (under {close:g} m), MEDIUM \
+({close:g} to {far:g} m), FAR (over {far:g} m).
+- collision risk, from predicting both actors at constant speed and turn rate: HIGH (collision predicted \
+within {high:g} s), LOW (within {horizon:g} s), NO.
+- trajectory overlap risk, from the paths both actually drive next: HIGH (they overlap within {ohigh:g} s), \
+LOW (within {olow:g} s), NO."""
+
+_INSTRUCTIONS = """Instructions:
+1. Find the moment the ego vehicle brakes and what the guest does before and during it.
+2. Choose the one category whose definition best explains the braking. If the guest makes the ego \
+brake but no definition fits, choose {unknown}. If the guest is not the reason for the braking, \
+choose {not_relevant}.
+3. Answer with one JSON object with exactly these keys, and keep it short:
+   "description": one sentence (at most 30 words) rephrasing the event that makes the ego brake;
+   "category": the name of the chosen category, exactly as written in the list;
+   "explanation": one sentence (at most 25 words) giving the main reason for this category."""
+
+
+def system_prompt(categories: CategorySet, tag_cfg: TagConfig | None = None) -> str:
+    """The system message: role, how to read the tags, the categories, instructions and output format.
+
+    Args:
+        categories: the categories to choose from, in the order listed.
+        tag_cfg: the tag thresholds quoted in the reading guide (defaults to the paper's values).
+    """
+    cfg = tag_cfg or TagConfig()
+    guide = _TAG_GUIDE.format(
+        veer=cfg.veer_angle_rad,
+        turn=cfg.turn_angle_rad,
+        close=cfg.distance_close_m,
+        far=cfg.distance_far_m,
+        high=cfg.ttc_high_s,
+        horizon=cfg.ttc_horizon_s,
+        ohigh=cfg.overlap_high_s,
+        olow=cfg.overlap_low_s,
+    )
+    listed = "\n".join(f"- {c.name}: {c.definition}" for c in categories.categories)
+    instructions = _INSTRUCTIONS.format(unknown=UNKNOWN_BUT_RELEVANT, not_relevant=NOT_RELEVANT)
+    return f"{_ROLE}\n\n{guide}\n\nScenario categories:\n{listed}\n\n{instructions}"
+
+
+def build_messages(
+    description: str, categories: CategorySet, tag_cfg: TagConfig | None = None
+) -> list[Message]:
+    """The conversation for one event: the shared system message, then the event's description.
+
+    Args:
+        description: the structured scenario description (:mod:`scenariominer.events.describe`).
+        categories: the categories to choose from.
+        tag_cfg: the tag thresholds quoted in the reading guide.
+    """
+    return [
+        system(system_prompt(categories, tag_cfg)),
+        user(f"Scenario description:\n{description.strip()}"),
+    ]

@@ -1,0 +1,223 @@
+"""Dual-path retrieval of braking events (braking paper, section III-E).
+
+* **Category path**: events whose LLM category equals the requested one.
+* **Free-text path**: the query is embedded with the same model as the stored descriptions and
+  events are ranked by cosine similarity. Vectors of another model or dimension are refused with
+  :class:`~scenariominer.store.EmbeddingMismatchError` instead of giving meaningless scores.
+
+Both paths can filter by criticality (``min_decel_mps2``, ``max_ttc_s``) and sort by a measure
+(:class:`SortKey`); a text query combined with a category searches inside that category.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from enum import StrEnum
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.compute as pc
+
+from scenariominer.explain.records import (
+    EMBEDDINGS_TABLE,
+    EVENTS_TABLE,
+    EventRecord,
+    json_number,
+    records_from_table,
+)
+from scenariominer.llm.embeddings import Embedder
+from scenariominer.store import ScenarioStore, UnknownTableError
+from scenariominer.store.vectors import load_embeddings, normalize_rows
+
+__all__ = [
+    "NoEventsError",
+    "SearchHit",
+    "SearchQuery",
+    "SortKey",
+    "load_events",
+    "search_events",
+]
+
+
+class NoEventsError(LookupError):
+    """The store holds no analysed events (run ``scenariominer analyze`` first)."""
+
+    def __init__(self, root: str) -> None:
+        super().__init__(f"store {root} holds no analysed braking events; run `scenariominer analyze` first")
+
+
+class SortKey(StrEnum):
+    """Orders of search results.
+
+    Attributes:
+        SCORE: best cosine similarity first (text queries; log and time order otherwise).
+        TTC: smallest minimum time-to-collision first.
+        DECEL: largest peak deceleration first.
+        PET: smallest post-encroachment time first.
+        HEADWAY: smallest time headway first.
+    """
+
+    SCORE = "score"
+    TTC = "ttc"
+    DECEL = "decel"
+    PET = "pet"
+    HEADWAY = "headway"
+
+
+@dataclass(frozen=True)
+class SearchQuery:
+    """What to look for.
+
+    Attributes:
+        text: free-text scenario description (embedding path); ``None`` for the category path only.
+        category: LLM category to match; ``None`` matches every category.
+        k: maximum number of results.
+        min_decel_mps2: keep events whose peak deceleration is at least this (m/s²).
+        max_ttc_s: keep events whose minimum time-to-collision is at most this (s).
+        sort: result order. A text query keeps the ``k`` most similar events and orders them by
+            this key (``None``: by score); the category path orders every match by it and keeps
+            the first ``k`` (``None``: by log and time).
+    """
+
+    text: str | None = None
+    category: str | None = None
+    k: int = 10
+    min_decel_mps2: float | None = None
+    max_ttc_s: float | None = None
+    sort: SortKey | None = None
+
+    def __post_init__(self) -> None:
+        if self.k < 1:
+            raise ValueError(f"k must be at least 1, got {self.k}")
+        if self.text is not None and not self.text.strip():
+            raise ValueError("the text query is empty")
+        if self.text is None and self.sort is SortKey.SCORE:
+            raise ValueError("sorting by score needs a text query")
+
+
+@dataclass(frozen=True)
+class SearchHit:
+    """One retrieved event.
+
+    Attributes:
+        event: the stored event (log id, guest id, window, category, explanation, criticality).
+        score: cosine similarity to the text query; NaN on the category path.
+    """
+
+    event: EventRecord
+    score: float
+
+    def to_json_dict(self) -> dict[str, Any]:
+        """The fields a user needs, JSON-safe (NaN and infinities become ``null``)."""
+        e = self.event
+        return {
+            "event_id": e.event_id,
+            "log_id": e.log_id,
+            "guest_id": e.guest_id,
+            "guest_category": e.guest_category,
+            "start_ns": e.start_ns,
+            "end_ns": e.end_ns,
+            "duration_s": e.duration_s,
+            "category": e.category,
+            "explanation": e.explanation,
+            "description": e.llm_description,
+            "baseline_category": e.baseline_category,
+            "score": json_number(self.score),
+            "min_ttc_s": json_number(e.min_ttc_s),
+            "pet_s": json_number(e.pet_s),
+            "headway_s": json_number(e.headway_s),
+            "peak_decel_mps2": json_number(e.peak_decel_mps2),
+        }
+
+
+def load_events(store: ScenarioStore, log_ids: Sequence[str] | None = None) -> pa.Table:
+    """The ``events`` table of the store (or of some logs).
+
+    Raises:
+        NoEventsError: no log has been analysed.
+    """
+    try:
+        return store.read_table(EVENTS_TABLE, log_ids)
+    except UnknownTableError:
+        raise NoEventsError(str(store.root)) from None
+
+
+def _filter(table: pa.Table, query: SearchQuery) -> pa.Table:
+    mask = pa.array(np.ones(table.num_rows, dtype=bool))
+    if query.category is not None:
+        mask = pc.and_(mask, pc.equal(table.column("category"), query.category))
+    if query.min_decel_mps2 is not None:
+        mask = pc.and_(mask, pc.greater_equal(table.column("peak_decel_mps2"), query.min_decel_mps2))
+    if query.max_ttc_s is not None:
+        mask = pc.and_(mask, pc.less_equal(table.column("min_ttc_s"), query.max_ttc_s))
+    return table.filter(pc.fill_null(mask, False))
+
+
+def _sort_value(hit: SearchHit, key: SortKey) -> float:
+    """Ascending sort value; NaN sorts last."""
+    e = hit.event
+    value = {
+        SortKey.SCORE: -hit.score,
+        SortKey.TTC: e.min_ttc_s,
+        SortKey.DECEL: -e.peak_decel_mps2,
+        SortKey.PET: e.pet_s,
+        SortKey.HEADWAY: e.headway_s,
+    }[key]
+    return math.inf if math.isnan(value) else value
+
+
+def search_events(
+    store: ScenarioStore,
+    query: SearchQuery,
+    embedder: Embedder | None = None,
+    log_ids: Sequence[str] | None = None,
+) -> list[SearchHit]:
+    """Retrieve events by category and/or free text, filtered and sorted by criticality.
+
+    Args:
+        store: the store.
+        query: what to look for.
+        embedder: embeds ``query.text``; must be the model the descriptions were embedded with.
+        log_ids: restrict the search to these logs.
+
+    Returns:
+        At most ``query.k`` hits.
+
+    Raises:
+        NoEventsError: the store holds no analysed events.
+        ValueError: a text query without an embedder.
+        EmbeddingMismatchError: the stored vectors come from another model or dimension.
+    """
+    table = _filter(load_events(store, log_ids), query)
+    records = records_from_table(table)
+    scores = np.full(len(records), np.nan)
+    if query.text is not None:
+        if embedder is None:
+            raise ValueError("a text query needs an embedder")
+        q = embedder.embed([query.text])
+        keys, matrix = load_embeddings(store, EMBEDDINGS_TABLE, q.model, dim=q.dim, log_ids=log_ids)
+        unit_q = normalize_rows(q.vectors, ["query"])[0]
+        sims = matrix @ unit_q if matrix.shape[0] else np.zeros(0, dtype=np.float32)
+        by_event = dict(zip(keys.column("item_id").to_pylist(), sims.tolist(), strict=True))
+        scores = np.array([by_event.get(r.event_id, np.nan) for r in records], dtype=np.float64)
+        keep = np.isfinite(scores)
+        records = [r for r, ok in zip(records, keep, strict=True) if ok]
+        scores = scores[keep]
+    hits = [SearchHit(r, float(s)) for r, s in zip(records, scores, strict=True)]
+    if query.text is not None:
+        # The k most similar events, then (optionally) ordered by a criticality measure.
+        hits.sort(key=lambda h: (_sort_value(h, SortKey.SCORE), h.event.log_id, h.event.start_ns))
+        hits = hits[: query.k]
+        if query.sort is not None and query.sort is not SortKey.SCORE:
+            hits.sort(key=lambda h: (_sort_value(h, query.sort or SortKey.SCORE), -h.score))
+        return hits
+    if query.sort is None:
+        hits.sort(key=lambda h: (h.event.log_id, h.event.start_ns, h.event.guest_id))
+    else:
+        hits.sort(
+            key=lambda h: (_sort_value(h, query.sort or SortKey.SCORE), h.event.log_id, h.event.start_ns)
+        )
+    return hits[: query.k]

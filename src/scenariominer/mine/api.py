@@ -1,0 +1,515 @@
+"""Programmatic entry point of scenario mining: description in, matches per log out.
+
+:func:`mine_logs` does one query:
+
+1. **program**: a program given by the caller, else the hand-written bank program with the same
+   description, else the language-model loop (:func:`~scenariominer.mine.loop.generate_program`,
+   validated on the first ``generation.validation_logs`` logs, cached on disk);
+2. **coarse filter** (optional): per log, the candidate tracklets of the CLIP crop filter
+   (:mod:`scenariominer.mine.clip_filter`) restrict the program to those tracks and cells;
+3. **execution** on every log: in the sandbox for model-written and user programs, in-process for
+   the shipped bank (trusted); a log where the program fails is reported, the others still run;
+4. a :class:`QueryReport` with the matches and the timings the issue asks for (attempts used,
+   final status, generation time, execution time, number of logs).
+
+:func:`store_report` writes the matches to the store tables ``mining_results`` and
+``mining_runs`` (replacing earlier rows of the same description in the same logs), and
+:func:`av2_submission` turns a report into the Argoverse 2 submission frames.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from enum import StrEnum
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.compute as pc
+
+from scenariominer.config import Config
+from scenariominer.config.mining import MiningConfig
+from scenariominer.data.log import Log, LogFormatError
+from scenariominer.mine.clip_filter import (
+    CandidateTracklets,
+    ClipEncoder,
+    CropEncoder,
+    candidate_cells,
+    restrict_context,
+)
+from scenariominer.mine.context import LogContext
+from scenariominer.mine.export import (
+    MATCHES_TABLE,
+    RUNS_TABLE,
+    LogMatches,
+    av2_frames,
+    matches_table,
+    program_sha256,
+    runs_table,
+)
+from scenariominer.mine.keywords import KeywordSet
+from scenariominer.mine.loop import (
+    GenerationReport,
+    GenerationStatus,
+    ProgramCache,
+    ProgramRunner,
+    generate_program,
+)
+from scenariominer.mine.programs import ExampleProgram, load_examples
+from scenariominer.mine.sandbox import (
+    ErrorKind,
+    ProgramError,
+    run_program,
+    run_trusted_program,
+)
+from scenariominer.mine.synthesis import ProgramSynthesizer, normalize_description
+from scenariominer.store import ScenarioStore, UnknownTableError
+
+__all__ = [
+    "LogFailure",
+    "ProgramSource",
+    "QueryReport",
+    "av2_submission",
+    "bank_program",
+    "clip_candidates",
+    "load_logs",
+    "make_synthesizer",
+    "mine_logs",
+    "raw_logs_for",
+    "store_report",
+]
+
+
+class ProgramSource(StrEnum):
+    """Where the program of a query came from."""
+
+    GIVEN = "given"
+    """Passed by the caller (e.g. a file); run in the sandbox unless declared trusted."""
+    BANK = "bank"
+    """The shipped (or user) example bank has a program for exactly this description; trusted."""
+    GENERATED = "generated"
+    """Written by the language model (or read from the program cache); run in the sandbox."""
+
+
+@dataclass(frozen=True)
+class LogFailure:
+    """A log on which the program failed.
+
+    Attributes:
+        log_id: the log.
+        error: what went wrong.
+    """
+
+    log_id: str
+    error: ProgramError
+
+
+@dataclass(frozen=True)
+class QueryReport:
+    """Result of mining one description over a set of logs.
+
+    Attributes:
+        description: the description.
+        source: where the program came from.
+        status: ``ok`` when a program was available, ``manual_review`` when the model loop gave up.
+        program: the program that ran (``None`` under manual review).
+        attempts_used: model answers the loop needed (0 for a given or bank program; the
+            cached count for a cached one).
+        generation_s: seconds spent writing the program (model calls and validation runs; 0 when
+            the program was given, found in the bank or in the cache).
+        execution_s: seconds spent running the program over all logs.
+        n_logs: logs the query covered.
+        matches: per log where the program ran: what it found (possibly nothing).
+        failures: logs where the program failed.
+        generation: the loop's full report (every attempt), when the model was involved.
+        filtered: whether the CLIP candidate filter restricted the program.
+    """
+
+    description: str
+    source: ProgramSource
+    status: GenerationStatus
+    program: str | None
+    attempts_used: int
+    generation_s: float
+    execution_s: float
+    n_logs: int
+    matches: tuple[LogMatches, ...]
+    failures: tuple[LogFailure, ...] = ()
+    generation: GenerationReport | None = None
+    filtered: bool = False
+
+    @property
+    def program_sha256(self) -> str:
+        """Hash of the program that ran ('' under manual review)."""
+        return program_sha256(self.program) if self.program is not None else ""
+
+    @property
+    def n_matching_logs(self) -> int:
+        """Logs with at least one referred object."""
+        return sum(1 for m in self.matches if m.referred.any())
+
+    def summary(self) -> dict[str, Any]:
+        """Per-query numbers as plain JSON (what the note and the CLI report)."""
+        return {
+            "description": self.description,
+            "source": self.source.value,
+            "status": self.status.value,
+            "attempts_used": self.attempts_used,
+            "generation_s": round(self.generation_s, 3),
+            "execution_s": round(self.execution_s, 3),
+            "n_logs": self.n_logs,
+            "n_matching_logs": self.n_matching_logs,
+            "n_failed_logs": len(self.failures),
+            "program_sha256": self.program_sha256,
+        }
+
+
+def bank_program(description: str, examples: Sequence[ExampleProgram]) -> ExampleProgram | None:
+    """The bank entry whose description equals ``description`` (normalised), if any."""
+    key = normalize_description(description)
+    return next((e for e in examples if normalize_description(e.description) == key), None)
+
+
+def _context(log: Log | LogContext, config: MiningConfig) -> LogContext:
+    return log if isinstance(log, LogContext) else LogContext(log, config)
+
+
+def _runner(trusted: bool, config: MiningConfig) -> ProgramRunner:
+    if trusted:
+        return lambda program, ctx, description: run_trusted_program(program, ctx, description=description)
+    return lambda program, ctx, description: run_program(program, ctx, description=description, config=config)
+
+
+def mine_logs(
+    description: str,
+    logs: Sequence[Log | LogContext],
+    *,
+    config: MiningConfig | None = None,
+    program: str | None = None,
+    trusted: bool | None = None,
+    synthesizer: ProgramSynthesizer | Callable[[], ProgramSynthesizer] | None = None,
+    examples: Sequence[ExampleProgram] | None = None,
+    use_bank: bool = True,
+    cache: ProgramCache | None = None,
+    candidates: Mapping[str, CandidateTracklets] | None = None,
+    force: bool = False,
+    runner: ProgramRunner | None = None,
+    on_log: Callable[[str], None] | None = None,
+) -> QueryReport:
+    """Mine one description over ``logs`` (see the module docstring for the steps).
+
+    Args:
+        description: the scenario description.
+        logs: the logs to mine (preprocessed logs or their contexts).
+        config: mining configuration (defaults to :class:`MiningConfig`).
+        program: run this program instead of looking one up or generating one.
+        trusted: run in-process without limits; default True only for bank programs.
+        synthesizer: the language-model program writer, or a function that builds it (called
+            only when needed, so the model is not loaded for bank programs); needed when no
+            program is given and the bank has none for the description.
+        examples: the example bank (default: shipped bank plus ``generation.examples_files``).
+        use_bank: use a bank program with exactly this description when there is one.
+        cache: program cache for generated programs.
+        candidates: per log id, the CLIP filter's candidate tracklets; logs without an entry are
+            mined whole.
+        force: regenerate even if the program cache has this description.
+        runner: run programs (validation and mining) with this function instead of the sandbox
+            or the in-process runner chosen by ``trusted`` (tests, benchmarks).
+        on_log: called with each log id after it was mined (progress).
+
+    Raises:
+        ValueError: no logs, or no program and no synthesizer.
+        BackendError: a model call failed.
+    """
+    cfg = config or MiningConfig()
+    if not logs:
+        raise ValueError("mine_logs needs at least one log")
+    contexts = [_context(log, cfg) for log in logs]
+    generation: GenerationReport | None = None
+    generation_s = 0.0
+    attempts = 0
+    if program is not None:
+        source = ProgramSource.GIVEN
+    else:
+        bank = tuple(examples) if examples is not None else load_examples(cfg.generation.examples_files)
+        hit = bank_program(description, bank) if use_bank else None
+        if hit is not None:
+            source, program = ProgramSource.BANK, hit.program
+        elif synthesizer is None:
+            raise ValueError(
+                f"no program for {description!r}: the example bank has none and no language model "
+                "is configured"
+            )
+        else:
+            source = ProgramSource.GENERATED
+            validation = contexts[: cfg.generation.validation_logs]
+            writer = synthesizer if isinstance(synthesizer, ProgramSynthesizer) else synthesizer()
+            generation = generate_program(
+                description, writer, validation, config=cfg, cache=cache, runner=runner, force=force
+            )
+            attempts = generation.attempts_used
+            generation_s = 0.0 if generation.from_cache else generation.generation_s + generation.validation_s
+            program = generation.program
+    run_in_process = trusted if trusted is not None else source is ProgramSource.BANK
+    if program is None:
+        assert generation is not None
+        return QueryReport(
+            description, source, GenerationStatus.MANUAL_REVIEW, None, attempts, generation_s, 0.0,
+            len(contexts), (), (), generation, candidates is not None,
+        )  # fmt: skip
+    run = runner or _runner(run_in_process, cfg)
+    matches: list[LogMatches] = []
+    failures: list[LogFailure] = []
+    t_exec = time.perf_counter()
+    for ctx in contexts:
+        t0 = time.perf_counter()
+        target, cells = ctx, None
+        tracklets = candidates.get(ctx.log_id) if candidates is not None else None
+        if tracklets is not None:
+            target, cells = restrict_context(ctx, candidate_cells(ctx.log, tracklets))
+        result = run(program, target, description)
+        if result.error is not None or result.scenario is None:
+            error = result.error or ProgramError(ErrorKind.INVALID_OUTPUT, "the program returned no scenario")
+            failures.append(LogFailure(ctx.log_id, error))
+        else:
+            scenario = result.scenario if cells is None else result.scenario.restrict(cells)
+            matches.append(LogMatches.from_scenario(scenario, description, program, time.perf_counter() - t0))
+        if on_log is not None:
+            on_log(ctx.log_id)
+    return QueryReport(
+        description=description,
+        source=source,
+        status=GenerationStatus.OK,
+        program=program,
+        attempts_used=attempts,
+        generation_s=generation_s,
+        execution_s=time.perf_counter() - t_exec,
+        n_logs=len(contexts),
+        matches=tuple(matches),
+        failures=tuple(failures),
+        generation=generation,
+        filtered=candidates is not None,
+    )
+
+
+def _merge(
+    store: ScenarioStore, name: str, new: Mapping[str, pa.Table], description: str
+) -> dict[str, pa.Table]:
+    """Existing rows of table ``name`` for the logs in ``new``, minus this description's, plus ``new``."""
+    try:
+        old = store.read_table(name, list(new))
+    except UnknownTableError:
+        return dict(new)
+    key = normalize_description(description)
+    out: dict[str, pa.Table] = {}
+    for log_id, table in new.items():
+        rows = old.filter(pc.equal(old.column("log_id"), log_id))
+        if rows.num_rows:
+            same = np.array([normalize_description(d) == key for d in rows.column("description").to_pylist()])
+            rows = rows.filter(pa.array(~same)).drop_columns(["log_id"])
+            out[log_id] = pa.concat_tables([rows, table], promote_options="permissive")
+        else:
+            out[log_id] = table
+    return out
+
+
+def store_report(store: ScenarioStore, report: QueryReport) -> list[str]:
+    """Write a query's matches to ``mining_results`` and ``mining_runs`` of the logs in the store.
+
+    Earlier rows of the same description (normalised) in those logs are replaced; rows of other
+    descriptions are kept. Logs the store does not hold are skipped.
+
+    Returns:
+        The log ids written.
+    """
+    known = set(store.log_ids())
+    matches = [m for m in report.matches if m.log_id in known]
+    runs: dict[str, pa.Table] = {m.log_id: runs_table(m) for m in matches}
+    for failure in report.failures:
+        if failure.log_id in known:
+            empty = LogMatches(
+                failure.log_id, report.description, report.program_sha256,
+                np.zeros(0, dtype=np.int64), np.zeros(0, dtype=str), np.zeros(0, dtype=str),
+                np.zeros((0, 0), dtype=bool), np.zeros((0, 3), dtype=np.int64),
+            )  # fmt: skip
+            runs[failure.log_id] = runs_table(empty, status="failed", error=failure.error.feedback())
+    if not runs:
+        return []
+    cells = {m.log_id: matches_table(m) for m in matches}
+    tables: dict[str, dict[str, pa.Table]] = {}
+    for log_id, table in _merge(store, RUNS_TABLE, runs, report.description).items():
+        tables.setdefault(log_id, {})[RUNS_TABLE] = table
+    if cells:
+        for log_id, table in _merge(store, MATCHES_TABLE, cells, report.description).items():
+            tables.setdefault(log_id, {})[MATCHES_TABLE] = table
+    for log_id, per_log in tables.items():
+        store.write_tables(log_id, per_log)
+    return sorted(tables)
+
+
+def av2_submission(
+    report: QueryReport,
+    raw_logs: Mapping[str, Log],
+    *,
+    timestamps: Mapping[str, Sequence[int]] | None = None,
+) -> dict[tuple[str, str], list[dict[str, Any]]]:
+    """The Argoverse 2 submission entries of a query: one frame list per log of ``raw_logs``.
+
+    Logs where the program failed or found nothing, and every log of a query under manual
+    review, get frames without referred objects (an empty answer), so every evaluation
+    timestamp of every log has a frame.
+
+    Args:
+        report: the query's result.
+        raw_logs: the RAW logs (unsmoothed boxes) of the mined logs, by log id.
+        timestamps: evaluation timestamps per log id (e.g. the ground truth's); default the
+            2 Hz subsampling (:func:`~scenariominer.mine.export.evaluation_timestamps`).
+
+    Raises:
+        KeyError: a log with matches has no raw log.
+    """
+    out: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    found = {m.log_id: m for m in report.matches}
+    missing = sorted(set(found) - set(raw_logs))
+    if missing:
+        raise KeyError(
+            f"no raw log for {missing[0]}; the export needs the unsmoothed boxes of every mined log"
+        )
+    for log_id, raw in raw_logs.items():
+        matches = found.get(log_id) or LogMatches(
+            log_id, report.description, report.program_sha256, raw.timestamps_ns, raw.track_ids,
+            raw.categories, np.zeros(raw.valid.shape, dtype=bool), np.zeros((0, 3), dtype=np.int64),
+        )  # fmt: skip
+        ts = None if timestamps is None or log_id not in timestamps else timestamps[log_id]
+        out[(log_id, report.description)] = av2_frames(matches, raw, timestamps_ns=ts)
+    return out
+
+
+# ---------------------------------------------------------------------- inputs
+
+
+def load_logs(
+    paths: Sequence[str | Path] = (),
+    store: ScenarioStore | None = None,
+    config: Config | None = None,
+) -> list[Log]:
+    """The preprocessed logs to mine.
+
+    * ``paths`` only: read every log under the paths (any supported format) and preprocess it in
+      memory (nothing is written);
+    * ``paths`` and ``store``: ingest the paths into the store (incremental: unchanged sources
+      are skipped) and load those logs from it, so results can be stored beside them;
+    * ``store`` only: every log in the store.
+
+    Raises:
+        LogFormatError: a path holds no readable log, or a source failed to ingest.
+        ValueError: neither paths nor a store.
+    """
+    from scenariominer import api as top_api
+    from scenariominer.config import load_config
+    from scenariominer.data.preprocess import preprocess
+    from scenariominer.data.sources import discover_sources, reader_for
+
+    cfg = config or load_config()
+    if paths and store is not None:
+        report = top_api.ingest(list(paths), store, cfg)
+        if report.failed:
+            first = report.failed[0]
+            raise LogFormatError(first.key, first.error)
+        ids = [log_id for r in report.sources for log_id in r.log_ids]
+        return [store.load_log(i) for i in dict.fromkeys(ids)]
+    if paths:
+        logs: list[Log] = []
+        for source in discover_sources(list(paths)):
+            reader = reader_for(source)
+            logs.extend(preprocess(log, cfg.preprocess) for log in reader.read(source, cfg))
+        return logs
+    if store is not None:
+        return [store.load_log(i) for i in store.log_ids()]
+    raise ValueError("give log paths, a store, or both")
+
+
+def raw_logs_for(logs: Sequence[Log], config: Config | None = None) -> dict[str, Log]:
+    """The RAW (unsmoothed) version of each log, for the Argoverse 2 export.
+
+    Argoverse 2 logs are re-read from their source folder (the ground truth uses the raw
+    annotation boxes); logs of other formats, or whose folder is gone, are used as they are.
+    """
+    from scenariominer.config import load_config
+    from scenariominer.data.av2 import is_av2_log_dir, read_av2_log
+
+    cfg = config or load_config()
+    out: dict[str, Log] = {}
+    for log in logs:
+        src = log.source_path
+        if log.dataset == "av2" and src is not None and is_av2_log_dir(Path(src)):
+            out[log.log_id] = read_av2_log(Path(src), min_track_frames=cfg.ingest.min_track_frames)
+        else:
+            out[log.log_id] = log
+    return out
+
+
+def make_synthesizer(config: Config | None = None, *, leave_one_out: bool = True) -> ProgramSynthesizer:
+    """The configured program writer: chat client (``[llm]``), embedder (``[embedding]``), bank.
+
+    Raises:
+        ModelNotAvailableError: the model file or the packages carrying it are missing.
+        ExampleBankError: a bank file in ``mining.generation.examples_files`` is unreadable.
+    """
+    from scenariominer.config import load_config
+    from scenariominer.llm.factory import make_chat_client, make_embedder
+    from scenariominer.mine.synthesis import ExampleSelector
+
+    cfg = config or load_config()
+    gen = cfg.mining.generation
+    selector = ExampleSelector(load_examples(gen.examples_files), make_embedder(cfg))
+    return ProgramSynthesizer(make_chat_client(cfg), selector, gen, leave_one_out=leave_one_out)
+
+
+def clip_candidates(
+    description: str,
+    logs: Sequence[Log],
+    frames_root: str | Path,
+    config: MiningConfig | None = None,
+    *,
+    encoder: CropEncoder | None = None,
+    keywords: KeywordSet | None = None,
+) -> dict[str, CandidateTracklets]:
+    """Candidate tracklets per log from camera crops (the coarse stage).
+
+    ``frames_root`` is either one log's camera-frame folder (its crop table may carry a
+    ``log_id`` column) or a folder with one sub-folder per log id. Logs without camera frames
+    get no entry (they are mined whole).
+
+    Args:
+        description: the query; its keywords are extracted with spaCy unless given.
+        logs: the logs being mined.
+        frames_root: camera-frame folder (see :mod:`scenariominer.mine.clip_filter`).
+        config: ``clip`` settings (model path, top K, margin).
+        encoder: crop/text encoder (default: CLIP from ``clip.model_path``).
+        keywords: the keywords to match (default :func:`~scenariominer.mine.keywords.extract_keywords`).
+
+    Raises:
+        ClipModelError: ``mining.clip.model_path`` is empty or not a CLIP model folder.
+        CameraFrameError: a crop table or image is unreadable.
+    """
+    from scenariominer.mine.clip_filter import CROPS_FILES, CropTable, candidate_tracklets, rank_crops
+    from scenariominer.mine.keywords import extract_keywords
+
+    cfg = (config or MiningConfig()).clip
+    root = Path(frames_root)
+    enc: CropEncoder = encoder or ClipEncoder.from_pretrained(cfg.model_path, batch_size=cfg.batch_size)
+    words = keywords or extract_keywords(description)
+    single = any((root / n).is_file() for n in CROPS_FILES)
+    out: dict[str, CandidateTracklets] = {}
+    for log in logs:
+        folder = root if single else root / log.log_id
+        if not any((folder / n).is_file() for n in CROPS_FILES):
+            continue
+        crops = CropTable.read(folder, log.log_id)
+        ranked = rank_crops(words, crops, enc, cfg)
+        out[log.log_id] = candidate_tracklets(log.log_id, crops, ranked, cfg.tracklet_margin_s)
+    return out

@@ -1,0 +1,226 @@
+"""Program synthesis: few-shot example choice, one model call, and code extraction.
+
+* :class:`ExampleSelector` picks the example programs whose descriptions are most similar to the
+  query (cosine similarity of sentence embeddings), from the shipped bank plus user bank files;
+  a bank entry with the query's own description is left out (leave-one-out), so evaluating on
+  the bank measures generation, not recall of the answer.
+* :class:`ProgramSynthesizer` composes the prompt (:mod:`scenariominer.mine.prompts`), calls the
+  chat client and extracts the program from the answer (:func:`extract_program`).
+
+The repair loop around it (check, run, feed the error back) is :mod:`scenariominer.mine.loop`.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenariominer.config.mining import GenerationConfig
+from scenariominer.llm.base import Message
+from scenariominer.llm.client import ChatClient
+from scenariominer.llm.embeddings import Embedder, Embeddings
+from scenariominer.mine.programs import ExampleProgram
+from scenariominer.mine.prompts import build_messages
+
+__all__ = [
+    "ExampleSelector",
+    "Generation",
+    "ProgramSynthesizer",
+    "extract_program",
+    "normalize_description",
+]
+
+_FENCE = re.compile(r"```[ \t]*([A-Za-z0-9_+-]*)[ \t]*\n(.*?)(?:\n[ \t]*```|\Z)", re.DOTALL)
+_CODE_LANGS = frozenset({"", "python", "py", "python3"})
+_MAX_TRIM_LINES = 200
+
+
+def normalize_description(text: str) -> str:
+    """Lower-case, single-spaced, without trailing punctuation: the identity of a description."""
+    return " ".join(text.lower().split()).rstrip(".!?;: ")
+
+
+def _parses(source: str) -> bool:
+    try:
+        ast.parse(source)
+    except (SyntaxError, ValueError):
+        return False
+    return True
+
+
+def _trim_prose(text: str) -> str:
+    """The longest run of lines of ``text`` that parses as Python, trimming prose at both ends."""
+    lines = text.strip().splitlines()
+    if _parses("\n".join(lines)):
+        return "\n".join(lines)
+    n = min(len(lines), _MAX_TRIM_LINES)
+    for start in range(n):
+        for stop in range(len(lines), start, -1):
+            chunk = "\n".join(lines[start:stop]).strip()
+            if chunk and _parses(chunk) and "(" in chunk:
+                return chunk
+    return text.strip()
+
+
+def extract_program(reply: str) -> str:
+    """The program in a model's answer.
+
+    Code fences are preferred: the first fenced block (```python, ```py or a bare ```) that
+    calls ``output_scenario``, else the longest fenced code block; a fence left open because the
+    answer was cut off counts up to the end of the text. Without fences the answer is taken as
+    bare code, with leading and trailing prose lines dropped until the rest parses. When nothing
+    parses, the stripped answer is returned so the checker can report the syntax error.
+
+    Args:
+        reply: the model's answer text.
+
+    Returns:
+        The program text (possibly empty).
+    """
+    blocks = [body.strip("\n") for lang, body in _FENCE.findall(reply) if lang.lower() in _CODE_LANGS]
+    blocks = [b for b in blocks if b.strip()]
+    if blocks:
+        with_output = [b for b in blocks if "output_scenario" in b]
+        chosen: str = with_output[0] if with_output else max(blocks, key=len)
+        return chosen.strip() + "\n"
+    bare = _trim_prose(reply.replace("```", ""))
+    return bare + "\n" if bare else ""
+
+
+class ExampleSelector:
+    """Chooses few-shot example programs by embedding similarity of their descriptions.
+
+    The bank's descriptions are embedded once (lazily, on the first query); each query costs
+    one embedding.
+
+    Args:
+        examples: the example bank (:func:`~scenariominer.mine.programs.load_examples`).
+        embedder: any :class:`~scenariominer.llm.embeddings.Embedder`.
+    """
+
+    def __init__(self, examples: Sequence[ExampleProgram], embedder: Embedder) -> None:
+        self.examples = tuple(examples)
+        self.embedder = embedder
+        self._bank: Embeddings | None = None
+
+    def _bank_vectors(self) -> Embeddings:
+        if self._bank is None:
+            self._bank = self.embedder.embed([e.description for e in self.examples])
+        return self._bank
+
+    def similarities(self, description: str) -> np.ndarray:
+        """``(len(examples),)`` cosine similarity of every bank description to ``description``."""
+        if not self.examples:
+            return np.zeros(0, dtype=np.float32)
+        query = self.embedder.embed([description])
+        return np.asarray(self._bank_vectors().cosine(query)[:, 0])
+
+    def select(self, description: str, k: int, *, leave_one_out: bool = True) -> list[ExampleProgram]:
+        """The ``k`` examples most similar to ``description``, most similar first.
+
+        Args:
+            description: the query.
+            k: how many examples (fewer when the bank is smaller).
+            leave_one_out: skip bank entries whose description equals the query (after
+                :func:`normalize_description`).
+        """
+        if k <= 0 or not self.examples:
+            return []
+        sims = self.similarities(description)
+        key = normalize_description(description)
+        order = np.argsort(-sims, kind="stable")
+        chosen: list[ExampleProgram] = []
+        for i in order:
+            ex = self.examples[int(i)]
+            if leave_one_out and normalize_description(ex.description) == key:
+                continue
+            chosen.append(ex)
+            if len(chosen) == k:
+                break
+        return chosen
+
+
+@dataclass(frozen=True)
+class Generation:
+    """One answer of the model and the program extracted from it.
+
+    Attributes:
+        program: the extracted program text.
+        reply: the raw answer.
+        latency_s: seconds the call took (of the original call when served from the cache).
+        cached: whether the answer came from the LLM response cache.
+        prompt_tokens: prompt tokens as counted by the backend.
+        completion_tokens: generated tokens.
+        finish_reason: why generation stopped (``"length"`` means cut off at ``max_tokens``).
+    """
+
+    program: str
+    reply: str
+    latency_s: float
+    cached: bool = False
+    prompt_tokens: int = 0
+    completion_tokens: int = 0
+    finish_reason: str = ""
+
+
+class ProgramSynthesizer:
+    """Writes mining programs with a chat model: prompt composition, call, code extraction.
+
+    Args:
+        client: the chat client (its cache makes repeated prompts free).
+        selector: few-shot example selector; ``None`` for zero-shot prompts.
+        config: generation settings (``few_shot_k``, ``reference_style``, ``max_tokens``).
+        leave_one_out: never show an example with the query's own description.
+    """
+
+    def __init__(
+        self,
+        client: ChatClient,
+        selector: ExampleSelector | None = None,
+        config: GenerationConfig | None = None,
+        *,
+        leave_one_out: bool = True,
+    ) -> None:
+        self.client = client
+        self.selector = selector
+        self.config = config or GenerationConfig()
+        self.leave_one_out = leave_one_out
+
+    @property
+    def model(self) -> str:
+        """Identity of the model behind the client (backend and model name)."""
+        return f"{self.client.backend.name}:{self.client.backend.model}"
+
+    def examples_for(self, description: str) -> list[ExampleProgram]:
+        """The few-shot examples the prompt for ``description`` shows, most similar first."""
+        if self.selector is None:
+            return []
+        return self.selector.select(description, self.config.few_shot_k, leave_one_out=self.leave_one_out)
+
+    def first_messages(self, description: str) -> list[Message]:
+        """The first request for ``description`` (system message, examples, description)."""
+        return build_messages(description, self.examples_for(description), self.config.reference_style)
+
+    def generate(self, messages: Sequence[Message]) -> Generation:
+        """Call the model once and extract the program from its answer.
+
+        Raises:
+            BackendError: the backend call failed.
+        """
+        t0 = time.perf_counter()
+        completion = self.client.completion(list(messages), max_tokens=self.config.max_tokens)
+        elapsed = time.perf_counter() - t0
+        return Generation(
+            program=extract_program(completion.text),
+            reply=completion.text,
+            latency_s=completion.latency_s if completion.cached else elapsed,
+            cached=completion.cached,
+            prompt_tokens=completion.prompt_tokens,
+            completion_tokens=completion.completion_tokens,
+            finish_reason=completion.finish_reason,
+        )

@@ -1,0 +1,117 @@
+"""The analyze / search / show commands and ``eval braking`` through Typer's test runner."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import typer
+from braking_builders import answer
+from typer.testing import CliRunner
+
+from scenariominer import api
+from scenariominer.config import Config
+from scenariominer.eval.cli import app as eval_app
+from scenariominer.explain import cli as explain_cli
+from scenariominer.llm import ChatClient, ScriptedBackend
+from scenariominer.store import ScenarioStore
+
+runner = CliRunner()
+
+
+def _app() -> typer.Typer:
+    app = typer.Typer()
+    explain_cli.register(app)
+    app.add_typer(eval_app, name="eval")
+    return app
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    root = tmp_path_factory.mktemp("cli")
+    api.synth(root / "synth", 2, seed=5, categories=["right_ped", "cut_in"])
+    api.ingest([root / "synth"], ScenarioStore.open(root / "store"), Config())
+    (root / "cfg.toml").write_text('[embedding]\nbackend = "hashing"\nhashing_dim = 48\n')
+    return root
+
+
+def _flat(text: str) -> str:
+    """Output with Rich's line wrapping undone."""
+    return " ".join(text.split())
+
+
+def _args(root: Path, *args: str) -> list[str]:
+    return [*args, "--store", str(root / "store"), "--config", str(root / "cfg.toml")]
+
+
+@pytest.fixture(scope="module")
+def analysed(workspace: Path) -> Path:
+    """The workspace after ``analyze --limit 0`` then ``analyze`` with a scripted LLM."""
+    app = _app()
+    pending = runner.invoke(app, _args(workspace, "analyze", "--limit", "0"))
+    assert pending.exit_code == 0, pending.output
+    assert "pending" in pending.output
+    backend = ScriptedBackend(
+        [answer("right_ped", "A pedestrian crosses while the ego turns right.", "why")] * 50
+    )
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(explain_cli, "make_chat_client", lambda cfg: ChatClient(backend))
+        done = runner.invoke(app, _args(workspace, "analyze", "--json"))
+    assert done.exit_code == 0, done.output
+    report = json.loads(done.output)
+    assert report["n_llm_calls"] == len(backend.requests) > 0 and report["n_pending"] == 0
+    return workspace
+
+
+def test_search_by_category_as_json(analysed: Path) -> None:
+    res = runner.invoke(_app(), _args(analysed, "search", "--category", "right_ped", "--json"))
+    assert res.exit_code == 0, res.output
+    hits = json.loads(res.output)
+    assert hits and {h["category"] for h in hits} == {"right_ped"}
+    assert {"log_id", "guest_id", "start_ns", "end_ns", "explanation", "min_ttc_s", "peak_decel_mps2"} <= set(
+        hits[0]
+    )
+
+
+def test_search_by_text(analysed: Path) -> None:
+    res = runner.invoke(
+        _app(), _args(analysed, "search", "a pedestrian crosses", "--k", "1", "--sort", "decel")
+    )
+    assert res.exit_code == 0, res.output
+    assert "1 event(s)" in res.output and "score" in res.output
+
+
+def test_show_writes_a_png(analysed: Path) -> None:
+    log_id = ScenarioStore.open(analysed / "store").log_ids()[0]
+    out = analysed / "event.png"
+    res = runner.invoke(_app(), _args(analysed, "show", log_id, "--out", str(out)))
+    assert res.exit_code == 0, res.output
+    assert out.read_bytes().startswith(b"\x89PNG")
+
+
+def test_eval_braking(analysed: Path) -> None:
+    labels = analysed / "synth" / "labels.csv"
+    res = runner.invoke(_app(), _args(analysed, "eval", "braking", "--labels", str(labels), "--json"))
+    assert res.exit_code == 0, res.output
+    result = json.loads(res.output)
+    assert result["n_logs"] == 2 and result["keyident"]["recall"] == 1.0
+    assert [r["category"] for r in result["classification"]][-1] == "overall"
+    table = runner.invoke(
+        _app(), _args(analysed, "eval", "braking", "--labels", str(labels), "--no-retrieval")
+    )
+    assert table.exit_code == 0 and "Table V" in table.output
+
+
+def test_errors_exit_non_zero_with_a_message(workspace: Path, tmp_path: Path) -> None:
+    app = _app()
+    missing = runner.invoke(app, ["search", "--category", "cut_in", "--store", str(tmp_path / "nope")])
+    assert missing.exit_code == 1 and "no store here" in _flat(missing.output)
+    bad_cats = tmp_path / "cats.toml"
+    bad_cats.write_text('invalid = "x"\n')
+    res = runner.invoke(app, _args(workspace, "analyze", "--limit", "0", "--categories", str(bad_cats)))
+    assert res.exit_code == 1 and "reserved" in _flat(res.output)
+    res = runner.invoke(app, _args(workspace, "show", "no-such-log"))
+    assert res.exit_code == 1
+    res = runner.invoke(app, _args(workspace, "eval", "braking", "--labels", str(tmp_path / "none.csv")))
+    assert res.exit_code == 1 and "does not exist" in _flat(res.output)

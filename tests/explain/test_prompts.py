@@ -1,0 +1,37 @@
+"""The prompt: role, tag guide, categories, instructions in the shared system message; the
+description alone in the user message."""
+
+from __future__ import annotations
+
+from scenariominer.config.tags import TagConfig
+from scenariominer.explain.categories import CategoryDef, CategorySet
+from scenariominer.explain.prompts import PROMPT_VERSION, build_messages, system_prompt
+from scenariominer.llm.base import Role
+
+
+def test_messages_put_everything_shared_in_the_system_message() -> None:
+    cats = CategorySet.default()
+    a = build_messages("Overview: first.", cats)
+    b = build_messages("Overview: second.", cats)
+    assert [m.role for m in a] == [Role.SYSTEM, Role.USER]
+    assert a[0] == b[0]  # identical prefix for every event
+    assert a[1].content == "Scenario description:\nOverview: first."
+    for name in cats.names:
+        assert f"- {name}: {cats.definition(name)}" in a[0].content
+    for key in ('"description"', '"category"', '"explanation"'):
+        assert key in a[0].content
+    assert PROMPT_VERSION
+
+
+def test_tag_guide_quotes_the_configured_thresholds() -> None:
+    text = system_prompt(CategorySet.default(), TagConfig(distance_close_m=12.0, ttc_high_s=1.2))
+    assert "CLOSE (under 12 m)" in text
+    assert "HIGH (collision predicted within 1.2 s)" in text
+    assert "0.05 to 0.17 rad" in text
+
+
+def test_custom_categories_are_listed_in_order() -> None:
+    cats = CategorySet((CategoryDef("lead_brake", "The lead brakes."), CategoryDef("not_relevant", "No.")))
+    text = system_prompt(cats)
+    assert text.index("- lead_brake: The lead brakes.") < text.index("- not_relevant: No.")
+    assert "cut_in" not in text
