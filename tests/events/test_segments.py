@@ -159,3 +159,26 @@ def test_bad_windows_are_clear_errors() -> None:
         pair_tags(tags, "nope", 0, DT_NS)
     with pytest.raises(ValueError, match="shape"):
         PairTags("log", "g", "CAR", np.arange(3), np.zeros((2, 3), dtype=np.int8), 0.1, 0, 0)
+
+
+def test_brief_risk_is_never_merged_away() -> None:
+    t = 20
+    tags = _log_tags(
+        t,
+        ego={"longitude": ["DECELERATING"] * t, "latitude": ["FACING_FORWARD"] * t},
+        guest={
+            "longitude": ["CRUISING"] * t,
+            "latitude": ["FACING_FORWARD"] * t,
+            "collision": _runs(("LOW", 10), ("HIGH", 1), ("LOW", 9)),
+            "heading": ["SAME"] * t,
+            "position": _runs(("FRONT", 10), ("FRONT_LEFT", 1), ("FRONT", 9)),
+            "distance": ["CLOSE"] * t,
+            "traj_overlap": ["HIGH"] * t,
+        },
+    )
+    segs = segment_pair(pair_tags(tags, "g", 0, 19 * DT_NS), min_segment_s=0.3)
+    collision = PAIR_FEATURES.index(PairFeature(Actor.PAIR, "collision"))
+    position = PAIR_FEATURES.index(PairFeature(Actor.PAIR, "position"))
+    assert [segs.value(collision, s) for s in range(segs.n_segments)] == ["LOW", "HIGH", "LOW"]
+    assert {segs.value(position, s) for s in range(segs.n_segments)} == {"FRONT"}
+    assert segs.value_duration_s[collision, 1] == pytest.approx(0.1)

@@ -111,6 +111,11 @@ def test_errors_exit_non_zero_with_a_message(workspace: Path, tmp_path: Path) ->
     bad_cats.write_text('invalid = "x"\n')
     res = runner.invoke(app, _args(workspace, "analyze", "--limit", "0", "--categories", str(bad_cats)))
     assert res.exit_code == 1 and "reserved" in _flat(res.output)
+    labels = workspace / "synth" / "labels.csv"
+    res = runner.invoke(
+        app, _args(workspace, "eval", "braking", "--labels", str(labels), "--categories", str(bad_cats))
+    )
+    assert res.exit_code == 1 and "reserved" in _flat(res.output)
     res = runner.invoke(app, _args(workspace, "show", "no-such-log"))
     assert res.exit_code == 1
     res = runner.invoke(app, _args(workspace, "eval", "braking", "--labels", str(tmp_path / "none.csv")))

@@ -116,6 +116,35 @@ def test_mining_results_table_has_one_row_per_referred_cell(result: Scenario) ->
     assert runs.column("n_referred_cells").to_pylist() == [table.num_rows]
 
 
+def test_related_objects_are_listed_per_cell(passing: LogContext) -> None:
+    log = passing.log
+    ego, bike, car = (log.track_index(t) for t in ("ego", "bike", "car"))
+    mask = np.zeros((log.n_tracks, log.n_timestamps), dtype=bool)
+    mask[ego, :3] = True
+    mask[car, 1] = True
+    relations = np.array([[ego, 0, bike], [ego, 0, car], [ego, 2, bike]])
+    table = matches_table(
+        LogMatches.from_scenario(Scenario.from_mask(passing, mask, relations), KEY, PROGRAM)
+    )
+    got = {
+        (tid, t): sorted(rel)
+        for tid, t, rel in zip(
+            table.column("track_id").to_pylist(),
+            table.column("timestamp_ns").to_pylist(),
+            table.column("related_track_ids").to_pylist(),
+            strict=True,
+        )
+    }
+    ts = log.timestamps_ns
+    assert got == {
+        ("ego", ts[0]): ["bike", "car"],
+        ("ego", ts[1]): [],
+        ("ego", ts[2]): ["bike"],
+        ("car", ts[1]): [],
+    }
+    assert matches_table(LogMatches.from_scenario(Scenario.empty(passing), KEY, PROGRAM)).num_rows == 0
+
+
 # ---------------------------------------------------------------------- Argoverse 2 frames
 
 
@@ -388,3 +417,26 @@ def test_mine_command_exports_the_shared_log_aligned_to_the_ground_truth(
     )
     assert res.exit_code == 0, res.output
     assert '"source": "given"' in res.output
+
+
+def test_the_configured_synthesizer_uses_the_bank_files_and_the_generation_settings(tmp_path: Path) -> None:
+    from scenariominer.config import Config
+    from scenariominer.config.llm import EmbeddingConfig, LLMConfig
+    from scenariominer.mine.api import make_synthesizer
+
+    extra = tmp_path / "bank.toml"
+    extra.write_text(
+        "[[example]]\ndescription = 'two buses side by side'\n"
+        "program = '''\noutput_scenario(get_objects_of_category(log_dir, 'BUS'), description)\n'''\n",
+        encoding="utf-8",
+    )
+    cfg = Config(
+        llm=LLMConfig(backend="openai", cache=False),  # no request is made by building it
+        embedding=EmbeddingConfig(backend="hashing", cache=False),
+        mining=MiningConfig(generation=GenerationConfig(few_shot_k=2, examples_files=(str(extra),))),
+    )
+    synth = make_synthesizer(cfg)
+    assert synth.config.few_shot_k == 2 and synth.leave_one_out
+    assert synth.model.startswith("openai:")
+    shown = synth.examples_for("two buses side by side with a car")
+    assert len(shown) == 2 and shown[0].description == "two buses side by side"

@@ -100,6 +100,23 @@ def test_after_k_failures_the_description_goes_to_manual_review_with_every_attem
     assert backend.remaining == 0
 
 
+def test_a_repeated_failing_program_makes_the_next_request_sample(street: LogContext) -> None:
+    commented = RUNTIME_ERROR.replace("output_scenario(", "# same program, new comment\noutput_scenario(")
+    synth, backend = _synth([RUNTIME_ERROR, commented, VALID])
+    report = generate_program(DESCRIPTION, synth, [street], config=_config(), runner=trusted)
+    assert report.ok and report.attempts_used == 3
+    first, second, third = (r.params for r in backend.requests)
+    assert first.temperature == second.temperature == 0.0  # greedy while the answers differ
+    assert third.temperature == 0.7 and third.seed == 3 and third.top_k == 0  # sampled after a repeat
+    assert "You wrote this program before" in backend.requests[2].messages[-1].content
+    assert "You wrote this program before" not in backend.requests[1].messages[-1].content
+    # retry_temperature = 0 keeps every request greedy
+    synth, backend = _synth([RUNTIME_ERROR, RUNTIME_ERROR, VALID])
+    greedy = MiningConfig(generation=GenerationConfig(retry_temperature=0.0))
+    assert generate_program(DESCRIPTION, synth, [street], config=greedy, runner=trusted).ok
+    assert all(r.params.temperature == 0.0 for r in backend.requests)
+
+
 def test_an_empty_scenario_is_a_valid_answer(street: LogContext) -> None:
     program = (
         "```python\nx = get_objects_of_category(log_dir, category='DOG')\n"

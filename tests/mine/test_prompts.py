@@ -97,3 +97,5 @@ def test_repair_request_extends_the_first_request_with_code_and_error() -> None:
     assert msgs[-2].role is Role.ASSISTANT and msgs[-2].content == "```python\nv = vehicle\n```"
     assert msgs[-1].role is Role.USER and feedback in msgs[-1].content
     assert repair_message(feedback).startswith("That program failed: " + feedback)
+    again = repair_messages(first, "v = vehicle\n", feedback, repeated=True)
+    assert again[:-1] == msgs[:-1] and "You wrote this program before" in again[-1].content

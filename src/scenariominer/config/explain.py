@@ -28,9 +28,10 @@ class ExplainConfig:
             starts with the guest beside the ego, seconds before any collision risk).
         context_after_s: ... and ends this many seconds after the last KeyIdent timestamp (how the
             ego's braking ended).
-        min_segment_s: in a description, a tag value lasting less than this (seconds) inside the
-            window is merged into the preceding value (the following one at the window start), so
-            a tag flickering at a sector boundary does not flood the text; 0 keeps every change.
+        min_segment_s: in a description, a relative heading, position or distance value lasting
+            less than this (seconds) is merged into the preceding value (the following one at the
+            window start), so a guest near a sector boundary does not flood the text; collision and
+            trajectory-overlap risk are never merged; 0 keeps every change.
         pet_horizon_s: post-encroachment time looks this many seconds past the analysis window for
             the second actor to reach the shared region (a pedestrian crossing after the ego stopped).
         min_ego_speed_mps: a log whose ego never reaches this ground speed (m/s) has no braking to

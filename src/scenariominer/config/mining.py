@@ -91,6 +91,11 @@ class GenerationConfig:
             programs join the few-shot pool; an entry with a shipped description replaces it.
         validation_logs: how many of the logs being mined a candidate program must run on
             without error before it is accepted (the first ones given; at least 1).
+        retry_temperature: sampling temperature of a repair request made after the model
+            repeated a program that had already failed. Decoding is greedy otherwise, and a greedy
+            model shown the same program and error answers the same again, which would spend the
+            remaining tries on one answer; the seed is the attempt number, so runs stay
+            reproducible. 0 keeps repairs greedy.
         cache_programs: keep the outcome of the loop on disk, keyed by description, model,
             prompt version and prompt text, so mining the same description again costs nothing.
     """
@@ -101,6 +106,7 @@ class GenerationConfig:
     max_tokens: int = 400
     examples_files: tuple[str, ...] = ()
     validation_logs: int = 1
+    retry_temperature: float = 0.7
     cache_programs: bool = True
 
     def __post_init__(self) -> None:
@@ -119,6 +125,10 @@ class GenerationConfig:
             raise ValueError(f"mining.generation.max_tokens must be >= 16, got {self.max_tokens}")
         if self.validation_logs < 1:
             raise ValueError(f"mining.generation.validation_logs must be >= 1, got {self.validation_logs}")
+        if not 0 <= self.retry_temperature <= 2:
+            raise ValueError(
+                f"mining.generation.retry_temperature must be in [0, 2], got {self.retry_temperature}"
+            )
 
 
 @dataclass(frozen=True)

@@ -42,7 +42,7 @@ def render_braking(ev: BrakingEvaluation) -> None:
     )
     t4 = Table(title="KeyIdent (Table IV)", title_justify="left")
     for col in ("category", "labels", "found", "precision", "recall"):
-        t4.add_column(col, justify="left" if col == "category" else "right")
+        t4.add_column(col, justify="left" if col == "category" else "right", no_wrap=True)
     for r in ev.keyident:
         overall = r.category == "overall"
         t4.add_row(
@@ -56,7 +56,7 @@ def render_braking(ev: BrakingEvaluation) -> None:
     console.print(t4)
     t5 = Table(title="Known categories, baseline / LLM (Table V)", title_justify="left")
     for col in ("category", "precision", "recall", "F1", "TP", "FP", "FN"):
-        t5.add_column(col, justify="left" if col == "category" else "right")
+        t5.add_column(col, justify="left" if col == "category" else "right", no_wrap=True)
     for c in ev.classification:
         b, m = c.baseline, c.llm
         t5.add_row(
@@ -94,6 +94,10 @@ def braking(
         ),
     ] = None,
     config: Annotated[Path | None, typer.Option("--config", "-c", help="TOML configuration file.")] = None,
+    categories: Annotated[
+        Path | None,
+        typer.Option("--categories", help="TOML file of the categories the store was analysed with."),
+    ] = None,
     retrieval: Annotated[
         bool, typer.Option(help="Also evaluate free-text retrieval (embeds the query sentences).")
     ] = True,
@@ -111,9 +115,9 @@ def braking(
     try:
         st = ScenarioStore.open(resolve_store_path(store, cfg.store.path), create=False)
         rows = read_labels(labels)
-        categories = load_categories(cfg.explain.categories_file)
+        category_set = load_categories(categories or cfg.explain.categories_file)
         embedder = make_embedder(cfg) if retrieval else None
-        ev = evaluate_braking(st, rows, embedder, categories=categories, only_complete=complete_only)
+        ev = evaluate_braking(st, rows, embedder, categories=category_set, only_complete=complete_only)
     except (
         StoreError,
         LabelFileError,

@@ -21,6 +21,7 @@ evaluation only, never on importing this module.
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import copy
 import math
@@ -307,10 +308,13 @@ def _as_tuple_keys(
         if isinstance(key, tuple):
             out[key] = frames
             continue
-        text = str(key)
-        # the av2 convention: "('<36-char log id>', '<prompt>')"
-        log_id, prompt = text[2:38], text[42:-2]
-        out[(log_id, prompt)] = frames
+        try:
+            parsed = ast.literal_eval(str(key))  # av2 keys are str((log_id, prompt))
+        except (ValueError, SyntaxError):
+            parsed = None
+        if not (isinstance(parsed, tuple) and len(parsed) == 2):
+            raise MiningEvaluationError(f"unexpected sequence id {key!r} from the evaluator")
+        out[(str(parsed[0]), str(parsed[1]))] = frames
     return out
 
 

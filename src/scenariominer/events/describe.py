@@ -33,7 +33,10 @@ from scenariominer.events.segments import (
 )
 from scenariominer.tags.engine import LogTags
 
-__all__ = ["FAMILY_LABELS", "NOT_OBSERVED", "describe_pair", "describe_segments"]
+__all__ = ["DESCRIPTION_VERSION", "FAMILY_LABELS", "NOT_OBSERVED", "describe_pair", "describe_segments"]
+
+#: Version of the description template; part of the analysis fingerprint, bump it on any change.
+DESCRIPTION_VERSION = "describe/2"
 
 #: Words used for each tag family in a description.
 FAMILY_LABELS: dict[str, str] = {
@@ -127,8 +130,8 @@ def describe_pair(
         end_ns: last timestamp of the event (inclusive).
         context_before_s: seconds of context before the event.
         context_after_s: seconds of context after the event.
-        min_segment_s: shorter tag values are merged into their neighbour (see
-            :func:`~scenariominer.events.segments.segment_pair`).
+        min_segment_s: shorter heading, position and distance values are merged into their
+            neighbour (see :func:`~scenariominer.events.segments.segment_pair`).
 
     Raises:
         KeyError: the guest is not in the log.

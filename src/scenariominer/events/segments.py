@@ -12,6 +12,7 @@ never a per-frame loop.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Collection
 from dataclasses import dataclass
 from enum import StrEnum
 
@@ -23,6 +24,7 @@ from scenariominer.tags.engine import LogTags
 from scenariominer.tags.vocab import ABSENT, TAG_FAMILIES, member_of
 
 __all__ = [
+    "FLICKER_FAMILIES",
     "PAIR_FEATURES",
     "Actor",
     "PairFeature",
@@ -70,6 +72,11 @@ class PairFeature:
         """``<actor>.<family>``, e.g. ``ego.longitude``."""
         return f"{self.actor.value}.{self.family}"
 
+
+#: Interaction families whose brief values are sector-boundary flicker rather than information
+#: (a guest near the 22.5° line between FRONT and FRONT_LEFT). Actor tags are already debounced by
+#: the tagger; collision and trajectory-overlap risk are never merged, a short HIGH matters.
+FLICKER_FAMILIES: tuple[str, ...] = ("heading", "position", "distance")
 
 #: Rows of a pair's tag matrix, in the order of a description (Fig. 4c).
 PAIR_FEATURES: tuple[PairFeature, ...] = (
@@ -265,22 +272,28 @@ class PairSegments:
         return None if member is None else member.value
 
 
-def segment_pair(pair: PairTags, min_segment_s: float = 0.0) -> PairSegments:
+def segment_pair(
+    pair: PairTags, min_segment_s: float = 0.0, merged_families: Collection[str] = FLICKER_FAMILIES
+) -> PairSegments:
     """Merge consecutive equal tags of a pair into duration segments.
 
     Args:
         pair: the pair's tags over the window.
-        min_segment_s: tag values lasting less than this (seconds) are first absorbed by the
-            preceding value of the same tag (the following one at the window start); undefined
-            (absent) stretches are never changed. 0 keeps every change.
+        min_segment_s: values of the ``merged_families`` rows lasting less than this (seconds) are
+            first absorbed by the preceding value of the same tag (the following one at the window
+            start); undefined (absent) stretches are never changed. 0 keeps every change.
+        merged_families: the interaction families whose short values are merged (default
+            :data:`FLICKER_FAMILIES`); risk tags are left alone so a brief HIGH stays visible.
 
     Returns:
         The segments; their durations sum to :attr:`PairTags.duration_s`.
     """
     edges = pair.edges_s
     codes = pair.codes
-    if min_segment_s > 0:
-        codes = suppress_short_runs(codes, frames_for(min_segment_s, edges[:-1]))
+    rows = [i for i, f in enumerate(PAIR_FEATURES) if f.actor is Actor.PAIR and f.family in merged_families]
+    if min_segment_s > 0 and rows:
+        codes = codes.copy()
+        codes[rows] = suppress_short_runs(codes[rows], frames_for(min_segment_s, edges[:-1]))
         pair = dataclasses.replace(pair, codes=codes)
     w = codes.shape[1]
     seg_first = np.ones(w, dtype=bool)

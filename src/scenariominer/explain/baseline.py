@@ -13,8 +13,9 @@ window's timestamps.
 * ``cut_in``: the guest is not a pedestrian and moves sideways (VEERING or TURNING) with SAME
   heading: either it goes from FRONT_LEFT or FRONT_RIGHT to FRONT, or it veers while ahead of an
   ego that keeps facing forward.
-* ``obj_crossing``: the guest is ahead with LEFT or RIGHT heading (moving across the ego's path)
-  at some timestamp.
+* ``obj_crossing``: a guest other than a pedestrian is ahead with LEFT or RIGHT heading (moving
+  across the ego's path) at some timestamp; crossing pedestrians are a category of their own in
+  the paper's taxonomy (``ped_crossing``, Table III).
 """
 
 from __future__ import annotations
@@ -30,12 +31,16 @@ from scenariominer.tags.vocab import HeadingTag, LatitudeTag, PositionTag, code_
 
 __all__ = [
     "BASELINE_RULES",
+    "BASELINE_VERSION",
     "baseline_category",
     "is_cut_in",
     "is_left_oppo",
     "is_obj_crossing",
     "is_right_ped",
 ]
+
+#: Version of the rules below; part of the analysis fingerprint, bump it when a rule changes.
+BASELINE_VERSION = "baseline/1"
 
 _PEDESTRIAN = "PEDESTRIAN"
 _AHEAD = [code_of(p) for p in (PositionTag.FRONT, PositionTag.FRONT_LEFT, PositionTag.FRONT_RIGHT)]
@@ -87,7 +92,9 @@ def is_cut_in(pair: PairTags) -> bool:
 
 
 def is_obj_crossing(pair: PairTags) -> bool:
-    """The guest is ahead of the ego while heading LEFT or RIGHT relative to it."""
+    """A non-pedestrian guest is ahead of the ego while heading LEFT or RIGHT relative to it."""
+    if pair.guest_category == _PEDESTRIAN:
+        return False  # a crossing pedestrian is its own category (ped_crossing, Table III)
     crossing = np.isin(_row(pair, Actor.PAIR, "heading"), _CROSSING) & np.isin(
         _row(pair, Actor.PAIR, "position"), _AHEAD
     )

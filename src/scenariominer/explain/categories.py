@@ -96,9 +96,10 @@ DEFAULT_CATEGORIES: tuple[CategoryDef, ...] = (
     ),
     CategoryDef(
         "obj_crossing",
-        "The ego drives (mostly) straight while an object crosses its path in front of it, moving "
-        "from left to right or right to left across the ego's direction of travel; the ego brakes "
-        "to let it pass. Typical tags: relative heading LEFT or RIGHT while the guest is ahead.",
+        "The ego drives (mostly) straight while a vehicle, cyclist or motorcyclist (not a pedestrian) "
+        "crosses its path in front of it, moving from left to right or right to left across the ego's "
+        "direction of travel; the ego brakes to let it pass. Typical tags: relative heading LEFT or "
+        "RIGHT while the guest is ahead.",
     ),
 )
 

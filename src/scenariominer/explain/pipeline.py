@@ -33,10 +33,10 @@ import pyarrow as pa
 from scenariominer.config import Config
 from scenariominer.data.log import Log
 from scenariominer.events.criticality import event_criticality
-from scenariominer.events.describe import describe_segments
+from scenariominer.events.describe import DESCRIPTION_VERSION, describe_segments
 from scenariominer.events.keyident import KeyEvent, find_key_objects
 from scenariominer.events.segments import pair_tags, segment_pair
-from scenariominer.explain.baseline import baseline_category
+from scenariominer.explain.baseline import BASELINE_VERSION, baseline_category
 from scenariominer.explain.categories import PENDING_CATEGORY, CategorySet, load_categories
 from scenariominer.explain.classify import Classification, ClassificationStatus, classify_description
 from scenariominer.explain.prompts import PROMPT_VERSION
@@ -222,8 +222,8 @@ def analysis_fingerprint(
     """Hash of every setting that determines the stored results (a change forces re-analysis).
 
     Covers the tag and KeyIdent thresholds, the explanation settings that shape descriptions and
-    measures, the categories, the prompt version, the chat model and decoding parameters, and
-    the embedding model.
+    measures, the categories, the versions of the prompt, description template and baseline rules,
+    the chat model and decoding parameters, and the embedding model.
     """
     explain = dataclasses.replace(
         config.explain, categories_file="", show_past_s=0.0, show_future_s=0.0, search_k=1
@@ -233,6 +233,8 @@ def analysis_fingerprint(
         "explain": asdict(explain),
         "categories": categories.fingerprint,
         "prompt": PROMPT_VERSION,
+        "description": DESCRIPTION_VERSION,
+        "baseline": BASELINE_VERSION,
         "chat": None
         if chat_client is None
         else [chat_client.backend.name, chat_client.backend.model, chat_client.params.to_dict()],

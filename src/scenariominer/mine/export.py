@@ -195,12 +195,20 @@ def matches_table(matches: LogMatches) -> pa.Table:
     ``related_track_ids`` (list of str, the related objects at that cell).
     """
     rows, cols = np.nonzero(matches.referred)
-    related: list[list[str]] = [[] for _ in range(rows.size)]
-    if matches.relations.shape[0] and rows.size:
-        cell = {(int(r), int(c)): i for i, (r, c) in enumerate(zip(rows, cols, strict=True))}
-        for r, c, other in matches.relations:
-            related[cell[(int(r), int(c))]].append(str(matches.track_ids[other]))
     n = int(rows.size)
+    rel = matches.relations
+    shape = matches.referred.shape
+    # every relation starts at a referred cell: find that cell's row in (rows, cols) order
+    cell_of_rel = np.searchsorted(
+        np.ravel_multi_index((rows, cols), shape) if n else np.zeros(0, dtype=np.int64),
+        np.ravel_multi_index((rel[:, 0], rel[:, 1]), shape) if rel.shape[0] else np.zeros(0, dtype=np.int64),
+    )
+    order = np.argsort(cell_of_rel, kind="stable")
+    offsets = np.searchsorted(cell_of_rel[order], np.arange(n + 1)).astype(np.int32)
+    related = pa.ListArray.from_arrays(
+        pa.array(offsets, type=pa.int32()),
+        pa.array(matches.track_ids[rel[order, 2]].astype(str), type=pa.string()),
+    )
     return pa.table(
         {
             "description": pa.array([matches.description] * n, type=pa.string()),
@@ -208,7 +216,7 @@ def matches_table(matches: LogMatches) -> pa.Table:
             "track_id": pa.array(matches.track_ids[rows].astype(str), type=pa.string()),
             "category": pa.array(matches.categories[rows].astype(str), type=pa.string()),
             "timestamp_ns": pa.array(matches.timestamps_ns[cols], type=pa.int64()),
-            "related_track_ids": pa.array(related, type=pa.list_(pa.string())),
+            "related_track_ids": related,
         }
     )
 

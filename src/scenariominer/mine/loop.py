@@ -6,7 +6,10 @@ For one description:
 2. for attempt ``i = 1 .. K``: ask the model for a program; check it statically
    (:func:`~scenariominer.mine.sandbox.check_program`); run it in the sandbox on the validation
    log(s); if all succeed, accept it; otherwise re-prompt with the faulty program and its error
-   (:func:`~scenariominer.mine.prompts.repair_messages`);
+   (:func:`~scenariominer.mine.prompts.repair_messages`); decoding is greedy, so when the model
+   repeats a program that already failed, the next request says so and samples
+   (``generation.retry_temperature``, seeded by the attempt number) instead of replaying the
+   same answer;
 3. after ``K`` failures, flag the description for manual review and keep every attempt.
 
 A *runtime* failure is anything :class:`~scenariominer.mine.sandbox.ProgramError` reports: syntax
@@ -22,6 +25,7 @@ again costs nothing. The cache is one SQLite file in the LLM cache directory.
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import json
 import sqlite3
@@ -211,6 +215,7 @@ def program_cache_key(
         "messages": [m.to_dict() for m in first_messages],
         "max_attempts": config.max_attempts,
         "max_tokens": config.max_tokens,
+        "retry_temperature": config.retry_temperature,
     }
     blob = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
     return hashlib.sha256(blob.encode("utf-8")).hexdigest()
@@ -313,6 +318,14 @@ def validate_program(
     return None
 
 
+def _program_key(program: str) -> str:
+    """A program's identity for repeat detection: its syntax tree (comments and layout ignored)."""
+    try:
+        return ast.dump(ast.parse(program))
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return " ".join(program.split())
+
+
 @dataclass
 class _LoopState:
     attempts: list[Attempt] = field(default_factory=list)
@@ -361,8 +374,13 @@ def generate_program(
             return hit
     state = _LoopState()
     messages = first
+    failed: set[str] = set()
+    sample = False
     for index in range(1, gen_cfg.max_attempts + 1):
-        generation = synthesizer.generate(messages)
+        if sample and gen_cfg.retry_temperature > 0:
+            generation = synthesizer.generate(messages, temperature=gen_cfg.retry_temperature, seed=index)
+        else:
+            generation = synthesizer.generate(messages)
         t0 = time.perf_counter()
         error = validate_program(generation.program, validation, description, config=config, runner=runner)
         if error is not None and generation.finish_reason == "length":
@@ -386,7 +404,12 @@ def generate_program(
         if error is None:
             state.accepted = generation.program
             break
-        messages = repair_messages(first, generation.program, error.feedback())
+        identity = _program_key(generation.program)
+        repeated = identity in failed
+        failed.add(identity)
+        # a greedy model shown the same program and error answers the same: sample instead
+        sample = repeated
+        messages = repair_messages(first, generation.program, error.feedback(), repeated=repeated)
     report = GenerationReport(
         description=description,
         status=GenerationStatus.OK if state.accepted is not None else GenerationStatus.MANUAL_REVIEW,

@@ -46,7 +46,7 @@ __all__ = [
 ]
 
 #: Version of the prompt texts below; part of every program-cache key.
-PROMPT_VERSION = "mining-program/1"
+PROMPT_VERSION = "mining-program/2"
 
 _ROLE = (
     "You write short Python programs that find driving scenarios in a recorded log. A program "
@@ -81,6 +81,11 @@ _REPAIR = (
     "That program failed: {error}\n"
     "Write the corrected complete program for the same description, again in one ```python "
     "code block. Keep what was right and fix the cause of the error."
+)
+_REPEATED = (
+    "You wrote this program before and it failed the same way. Do not write it again: check the "
+    "signature of the function named in the error and use only the arguments it documents, or "
+    "use other functions."
 )
 
 _SUBJECT_PARAGRAPH = re.compile(r"^(SUBJECT|SUBJECTS)\b")
@@ -257,12 +262,21 @@ def build_messages(
     return [system(system_prompt(style)), user(user_prompt(description, examples))]
 
 
-def repair_message(error_feedback: str) -> str:
-    """The user message of a repair round, quoting the error of the previous program."""
-    return _REPAIR.format(error=error_feedback.strip())
+def repair_message(error_feedback: str, *, repeated: bool = False) -> str:
+    """The user message of a repair round, quoting the error of the previous program.
+
+    Args:
+        error_feedback: the error in words.
+        repeated: the faulty program had already failed in an earlier attempt; the message then
+            asks for a different program.
+    """
+    text = _REPAIR.format(error=error_feedback.strip())
+    return f"{text}\n{_REPEATED}" if repeated else text
 
 
-def repair_messages(first: Sequence[Message], faulty_program: str, error_feedback: str) -> list[Message]:
+def repair_messages(
+    first: Sequence[Message], faulty_program: str, error_feedback: str, *, repeated: bool = False
+) -> list[Message]:
     """A repair request: the first request, the faulty program as the answer, then the error.
 
     Only the latest failure is shown (as in the paper's algorithm, each round composes the
@@ -273,5 +287,10 @@ def repair_messages(first: Sequence[Message], faulty_program: str, error_feedbac
         first: the messages of the first request (:func:`build_messages`).
         faulty_program: the program that failed (as extracted from the answer).
         error_feedback: the error in words (:meth:`ProgramError.feedback`).
+        repeated: the faulty program had already failed before (see :func:`repair_message`).
     """
-    return [*first, assistant(_fenced(faulty_program or "# (no code)")), user(repair_message(error_feedback))]
+    return [
+        *first,
+        assistant(_fenced(faulty_program or "# (no code)")),
+        user(repair_message(error_feedback, repeated=repeated)),
+    ]

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenariominer.config.mining import GenerationConfig
-from scenariominer.llm.base import Message
+from scenariominer.llm.base import GenerationOverrides, Message
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder, Embeddings
 from scenariominer.mine.programs import ExampleProgram
@@ -206,14 +206,28 @@ class ProgramSynthesizer:
         """The first request for ``description`` (system message, examples, description)."""
         return build_messages(description, self.examples_for(description), self.config.reference_style)
 
-    def generate(self, messages: Sequence[Message]) -> Generation:
+    def generate(
+        self, messages: Sequence[Message], *, temperature: float | None = None, seed: int | None = None
+    ) -> Generation:
         """Call the model once and extract the program from its answer.
+
+        Args:
+            messages: the request.
+            temperature: sampling temperature for this call (default: the client's, greedy).
+            seed: sampling seed for this call (matters only when sampling).
 
         Raises:
             BackendError: the backend call failed.
         """
+        overrides: GenerationOverrides = {"max_tokens": self.config.max_tokens}
+        if temperature is not None:
+            overrides["temperature"] = temperature
+            if temperature > 0:
+                overrides["top_k"] = 0  # the client's greedy default top_k = 1 would undo sampling
+        if seed is not None:
+            overrides["seed"] = seed
         t0 = time.perf_counter()
-        completion = self.client.completion(list(messages), max_tokens=self.config.max_tokens)
+        completion = self.client.completion(list(messages), **overrides)
         elapsed = time.perf_counter() - t0
         return Generation(
             program=extract_program(completion.text),
