@@ -46,7 +46,7 @@ __all__ = [
 ]
 
 #: Version of the prompt texts below; part of every program-cache key.
-PROMPT_VERSION = "mining-program/2"
+PROMPT_VERSION = "mining-program/3"
 
 _ROLE = (
     "You write short Python programs that find driving scenarios in a recorded log. A program "
@@ -60,6 +60,12 @@ and output_dir, which are already defined. Do not import anything.
 - Write straight-line code: assignments and function calls. No def, class, lambda, while, try \
 or with; no attribute access except np.inf; no names starting with an underscore.
 - Pass scenarios returned by the functions to other functions; never build them yourself.
+- Call each function with the parameters its signature lists, and no others.
+- Name variables after what they hold, never after a function: write \
+vehicles_in_intersection = on_intersection(vehicles, log_dir), not on_intersection = ....
+- Categories are kinds of objects. Places (intersections, crosswalks, lanes, the road) are \
+tested with the map functions such as on_intersection, at_pedestrian_crossing, on_lane_type, on_road.
+- Keep the program short: a few lines and no loops.
 - Negate a predicate with scenario_not(function)(scenario, log_dir, ...), combine scenarios with \
 scenario_and([a, b]) and scenario_or([a, b]).
 - The last line must be output_scenario(final_scenario, description, log_dir, output_dir).
