@@ -35,3 +35,18 @@ def test_custom_categories_are_listed_in_order() -> None:
     text = system_prompt(cats)
     assert text.index("- lead_brake: The lead brakes.") < text.index("- not_relevant: No.")
     assert "cut_in" not in text
+
+
+def test_builtin_categories_come_with_a_tag_pattern_checklist() -> None:
+    text = system_prompt(CategorySet.default())
+    assert "a. the ego is TURNING_LEFT or VEERING_LEFT" in text
+    assert "OPPOSITE: left_oppo;" in text
+    assert "PEDESTRIAN: right_ped;" in text
+    assert "while ahead of the ego: cut_in.\n" in text
+
+
+def test_checklist_lists_only_the_patterns_of_present_categories() -> None:
+    cats = CategorySet((CategoryDef("right_ped", "A pedestrian."), CategoryDef("not_relevant", "No.")))
+    text = system_prompt(cats)
+    assert "a. the ego is TURNING_RIGHT or VEERING_RIGHT and the guest is a PEDESTRIAN: right_ped." in text
+    assert "left_oppo" not in text and "b." not in text

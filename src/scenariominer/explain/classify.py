@@ -35,9 +35,9 @@ __all__ = [
 
 #: Longest rephrased description accepted (characters). The bound is part of the JSON schema, so
 #: a grammar-constrained model cannot ramble past it (small models ignore "be brief").
-DESCRIPTION_MAX_CHARS = 240
+DESCRIPTION_MAX_CHARS = 160
 #: Longest explanation accepted (characters), enforced the same way.
-EXPLANATION_MAX_CHARS = 200
+EXPLANATION_MAX_CHARS = 160
 
 
 class ClassificationStatus(StrEnum):

@@ -20,7 +20,7 @@ from scenariominer.llm.base import Message, system, user
 __all__ = ["PROMPT_VERSION", "build_messages", "system_prompt"]
 
 #: Version of the prompt texts below; stored with every result.
-PROMPT_VERSION = "braking-understanding/1"
+PROMPT_VERSION = "braking-understanding/2"
 
 _ROLE = (
     "You are an expert in the safety validation of automated vehicles. You read a rule-based, "
@@ -45,15 +45,46 @@ within {high:g} s), LOW (within {horizon:g} s), NO.
 - trajectory overlap risk, from the paths both actually drive next: HIGH (they overlap within {ohigh:g} s), \
 LOW (within {olow:g} s), NO."""
 
+#: Tag patterns of the built-in categories, given as a checklist a small model can follow step by
+#: step. Only the patterns of categories present in the set are listed, so a user's own category
+#: file brings only its own definitions.
+_PATTERNS: tuple[tuple[str, str], ...] = (
+    (
+        "left_oppo",
+        "the ego is TURNING_LEFT or VEERING_LEFT and the guest's relative heading is OPPOSITE",
+    ),
+    ("right_ped", "the ego is TURNING_RIGHT or VEERING_RIGHT and the guest is a PEDESTRIAN"),
+    (
+        "obj_crossing",
+        "the guest's relative heading is LEFT or RIGHT while it is in FRONT, FRONT_LEFT or FRONT_RIGHT",
+    ),
+    (
+        "cut_in",
+        "the guest's relative heading is SAME and the guest itself is VEERING or TURNING (often "
+        "left then right, or right then left) while ahead of the ego",
+    ),
+)
+
+
+def _pattern_checklist(categories: CategorySet) -> str:
+    names = set(categories.names)
+    lines = [f"{text}: {name}" for name, text in _PATTERNS if name in names]
+    if not lines:
+        return ""
+    lines = [line + ";" for line in lines[:-1]] + [lines[-1] + "."]
+    items = "\n".join(f"   {chr(ord('a') + i)}. {line}" for i, line in enumerate(lines))
+    return f"   Check, in this order, which pattern the tags show, and its category:\n{items}\n"
+
+
 _INSTRUCTIONS = """Instructions:
-1. Find the moment the ego vehicle brakes and what the guest does before and during it.
-2. Choose the one category whose definition best explains the braking. If the guest makes the ego \
-brake but no definition fits, choose {unknown}. If the guest is not the reason for the braking, \
-choose {not_relevant}.
+1. Find when the ego starts DECELERATING and look at the guest just before and during that time.
+2. Choose the one category whose definition best explains the braking.
+{patterns}   If the guest makes the ego brake but no definition fits, choose {unknown}. If the guest \
+is not the reason for the braking, choose {not_relevant}.
 3. Answer with one JSON object with exactly these keys, and keep it short:
-   "description": one sentence (at most 30 words) rephrasing the event that makes the ego brake;
+   "description": one sentence (at most 20 words) rephrasing the event that makes the ego brake;
    "category": the name of the chosen category, exactly as written in the list;
-   "explanation": one sentence (at most 25 words) giving the main reason for this category."""
+   "explanation": one sentence (at most 20 words) naming the tags that support this category."""
 
 
 def system_prompt(categories: CategorySet, tag_cfg: TagConfig | None = None) -> str:
@@ -75,7 +106,10 @@ def system_prompt(categories: CategorySet, tag_cfg: TagConfig | None = None) -> 
         olow=cfg.overlap_low_s,
     )
     listed = "\n".join(f"- {c.name}: {c.definition}" for c in categories.categories)
-    instructions = _INSTRUCTIONS.format(unknown=UNKNOWN_BUT_RELEVANT, not_relevant=NOT_RELEVANT)
+    patterns = _pattern_checklist(categories)
+    instructions = _INSTRUCTIONS.format(
+        patterns=patterns, unknown=UNKNOWN_BUT_RELEVANT, not_relevant=NOT_RELEVANT
+    )
     return f"{_ROLE}\n\n{guide}\n\nScenario categories:\n{listed}\n\n{instructions}"
 
 
