@@ -34,14 +34,7 @@ from scenariominer.mine.context import LogContext
 from scenariominer.mine.loop import ProgramCache, generate_program
 from scenariominer.mine.programs import load_examples
 
-SHARED_LOG = (
-    Path(__file__).resolve().parents[1]
-    / ".."
-    / "shared"
-    / "data"
-    / "av2"
-    / "3b3570b4-7b0b-3268-a571-b0889dbf40b6"
-)
+SHARED_LOG = Path(__file__).resolve().parents[2] / "shared/data/av2/3b3570b4-7b0b-3268-a571-b0889dbf40b6"
 KEY = "vehicle with a bicycle to its right"
 
 

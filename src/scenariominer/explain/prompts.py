@@ -67,13 +67,11 @@ _PATTERNS: tuple[tuple[str, str], ...] = (
 
 
 def _pattern_checklist(categories: CategorySet) -> str:
-    names = set(categories.names)
-    lines = [f"{text}: {name}" for name, text in _PATTERNS if name in names]
-    if not lines:
+    present = [(name, text) for name, text in _PATTERNS if name in set(categories.names)]
+    if not present:
         return ""
-    lines = [line + ";" for line in lines[:-1]] + [lines[-1] + "."]
-    items = "\n".join(f"   {chr(ord('a') + i)}. {line}" for i, line in enumerate(lines))
-    return f"   Check, in this order, which pattern the tags show, and its category:\n{items}\n"
+    items = ";\n".join(f"   {chr(ord('a') + i)}. {text}: {name}" for i, (name, text) in enumerate(present))
+    return f"   Check, in this order, which pattern the tags show, and its category:\n{items}.\n"
 
 
 _INSTRUCTIONS = """Instructions:

@@ -375,9 +375,10 @@ def generate_program(
     state = _LoopState()
     messages = first
     failed: set[str] = set()
-    sample = False
+    repeated = False
     for index in range(1, gen_cfg.max_attempts + 1):
-        if sample and gen_cfg.retry_temperature > 0:
+        # a greedy model shown the same program and error answers the same: sample instead
+        if repeated and gen_cfg.retry_temperature > 0:
             generation = synthesizer.generate(messages, temperature=gen_cfg.retry_temperature, seed=index)
         else:
             generation = synthesizer.generate(messages)
@@ -407,8 +408,6 @@ def generate_program(
         identity = _program_key(generation.program)
         repeated = identity in failed
         failed.add(identity)
-        # a greedy model shown the same program and error answers the same: sample instead
-        sample = repeated
         messages = repair_messages(first, generation.program, error.feedback(), repeated=repeated)
     report = GenerationReport(
         description=description,
