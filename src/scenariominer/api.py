@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from scenariominer.config import Config, load_config
-from scenariominer.data.log import LogFormatError
+from scenariominer.data.log import LOG_SCHEMA_VERSION, LogFormatError
 from scenariominer.data.preprocess import preprocess
 from scenariominer.data.sources import LogReader, LogSource, discover_sources, reader_for
 from scenariominer.progress import NullProgress, Progress, step
@@ -101,7 +101,12 @@ class IngestReport:
 def _pipeline_fingerprint(config: Config) -> str:
     """Hash of the settings that change what ingestion writes (a change forces re-ingestion)."""
     payload = json.dumps(
-        {"preprocess": asdict(config.preprocess), "ingest": asdict(config.ingest)}, sort_keys=True
+        {
+            "log_schema": LOG_SCHEMA_VERSION,
+            "preprocess": asdict(config.preprocess),
+            "ingest": asdict(config.ingest),
+        },
+        sort_keys=True,
     )
     return hashlib.sha256(payload.encode()).hexdigest()[:16]
 

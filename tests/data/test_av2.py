@@ -16,6 +16,7 @@ from scenariominer.config import Config
 from scenariominer.data.av2 import (
     ANNOTATIONS_FILE,
     ANNOTATIONS_WITH_EGO_FILE,
+    AV2_EGO_CENTER_OFFSET_M,
     AV2_EGO_SIZE_M,
     POSES_FILE,
     Av2Reader,
@@ -203,6 +204,10 @@ def test_city_frame_boxes_match_the_scenario_mining_ground_truth(real_log: Log, 
         col = int(np.flatnonzero(real_log.timestamps_ns == frame["timestamp_ns"])[0])
         ok = real_log.valid[:, col]
         xyz = np.stack([real_log.x_m[ok, col], real_log.y_m[ok, col], real_log.z_m[ok, col]], axis=1)
+        # The GT lists the ego as a box (name OTHER_OBJECT) placed at the pose (rear axle), as the
+        # exporter writes it; the log holds the ego's box centre (checked below).
+        pose_x, pose_y = real_log.ego_pose_xy_m()
+        xyz[0, :2] = pose_x[col], pose_y[col]
         yaw = real_log.yaw_rad[ok, col]
         gt_xyz = np.asarray(frame["translation_m"], dtype=float)
         dist = np.linalg.norm(gt_xyz[:, None, :] - xyz[None, :, :], axis=2)
@@ -210,8 +215,14 @@ def test_city_frame_boxes_match_the_scenario_mining_ground_truth(real_log: Log, 
         assert dist[np.arange(len(gt_xyz)), nearest].max() < 1e-3  # within 1 mm
         dyaw = np.angle(np.exp(1j * (yaw[nearest] - np.asarray(frame["yaw"], dtype=float))))
         assert np.abs(dyaw).max() < 1e-3  # GT yaw is float32 and composed slightly differently
-        ego_xyz = [real_log.x_m[0, col], real_log.y_m[0, col], real_log.z_m[0, col]]
-        np.testing.assert_allclose(ego_xyz, frame["ego_translation_m"], atol=1e-6)
+        # The GT's ego_translation_m is the AV2 pose (rear axle); the log holds the ego's box
+        # centre, AV2_EGO_CENTER_OFFSET_M ahead of it along the ego's heading.
+        gt_ego = np.asarray(frame["ego_translation_m"], dtype=float)
+        np.testing.assert_allclose([pose_x[col], pose_y[col], real_log.z_m[0, col]], gt_ego, atol=1e-6)
+        heading = np.array([np.cos(real_log.yaw_rad[0, col]), np.sin(real_log.yaw_rad[0, col])])
+        centre = np.array([real_log.x_m[0, col], real_log.y_m[0, col]])
+        np.testing.assert_allclose(centre - gt_ego[:2], AV2_EGO_CENTER_OFFSET_M * heading, atol=1e-6)
+        assert real_log.ego_pose_offset_m == AV2_EGO_CENTER_OFFSET_M
         n_boxes += len(gt_xyz)
     assert n_boxes > 2000
 
@@ -227,6 +238,9 @@ def test_box_is_rotated_and_translated_by_the_pose_of_its_timestamp(tmp_path: Pa
     np.testing.assert_allclose(log.y_m[car], [25.0, 26.0], atol=1e-12)
     np.testing.assert_allclose(log.yaw_rad[car], [np.pi / 2 + 0.25] * 2, atol=1e-12)
     np.testing.assert_allclose(log.x_m[0], [10.0, 10.0], atol=1e-12)
+    # The ego is stored at its box centre, 1.422 m ahead (north) of the pose (rear axle).
+    np.testing.assert_allclose(log.y_m[0], [20.0 + AV2_EGO_CENTER_OFFSET_M, 21.0 + AV2_EGO_CENTER_OFFSET_M])
+    np.testing.assert_allclose(log.ego_pose_xy_m()[1], [20.0, 21.0], atol=1e-12)
     assert log.notes == ()
 
 
@@ -234,7 +248,7 @@ def test_missing_pose_timestamp_is_interpolated_and_noted(tmp_path: Path) -> Non
     folder = _small_log(tmp_path / "L", pose_t=[-100_000_000, 200_000_000])
     # Pose y goes 20 → 21 over t = -0.1 s .. 0.2 s; at t = 0 it is 20 + 1/3.
     log = read_av2_log(folder)
-    np.testing.assert_allclose(log.y_m[0], [20.0 + 1 / 3, 20.0 + 2 / 3], atol=1e-9)
+    np.testing.assert_allclose(log.ego_pose_xy_m()[1], [20.0 + 1 / 3, 20.0 + 2 / 3], atol=1e-9)
     assert any("interpolated the ego pose at 2" in n for n in log.notes)
 
 
@@ -257,7 +271,8 @@ def test_annotation_outside_the_pose_range_is_an_error(tmp_path: Path) -> None:
 def test_plain_annotations_get_an_ego_track_from_the_poses(tmp_path: Path) -> None:
     log = read_av2_log(_small_log(tmp_path / "L", with_ego=False))
     assert log.n_tracks == 2 and log.categories[0] == "EGO_VEHICLE"
-    np.testing.assert_allclose(log.y_m[0], [20.0, 21.0])
+    np.testing.assert_allclose(log.ego_pose_xy_m()[1], [20.0, 21.0])  # pose = rear axle
+    np.testing.assert_allclose(log.y_m[0], np.array([20.0, 21.0]) + AV2_EGO_CENTER_OFFSET_M)  # box centre
     np.testing.assert_allclose(log.length_m[0], AV2_EGO_SIZE_M[0])
     assert any("synthesised" in n for n in log.notes)
     assert read_av2_log(_small_log(tmp_path / "L2", with_ego=False)).track_ids[0] != log.track_ids[0]

@@ -81,10 +81,10 @@ def test_every_log_folder_has_annotations_poses_and_a_readable_map(
         log = logs[log_dir.name]
         assert log.map_dir == log_dir / "map"
         av2_map = read_av2_map(log_dir)
-        # The ego (its box centre, 1.422 m ahead of the AV2 pose) stays on the drivable surface.
-        cx = log.x_m[0] + AV2_EGO_CENTER_OFFSET_M * np.cos(log.yaw_rad[0])
-        cy = log.y_m[0] + AV2_EGO_CENTER_OFFSET_M * np.sin(log.yaw_rad[0])
-        assert av2_map.in_drivable_area(np.column_stack([cx, cy])).all(), label.scenario_category
+        # The ego (read back at its box centre) stays on the drivable surface.
+        assert av2_map.in_drivable_area(np.column_stack([log.x_m[0], log.y_m[0]])).all(), (
+            label.scenario_category
+        )
         if label.scenario_category in INTERSECTION_CATEGORIES:
             assert len(av2_map.pedestrian_crossings) == 4
             assert int(av2_map.lane_is_intersection.sum()) == 16  # 4 arms x (2 through + left + right)
@@ -127,7 +127,7 @@ def test_guest_ids_and_log_ids_look_like_av2_uuids(written: tuple[SynthResult, d
             assert [len(p) for p in parts] == [8, 4, 4, 4, 12] and parts[2][0] == "4"
 
 
-def test_written_log_matches_the_in_memory_one_with_the_ego_at_the_rear_axle(
+def test_written_log_reads_back_as_the_in_memory_one(
     written: tuple[SynthResult, dict[str, Log]],
 ) -> None:
     result, logs = written
@@ -135,10 +135,15 @@ def test_written_log_matches_the_in_memory_one_with_the_ego_at_the_rear_axle(
     synth = generate_log(ALL[2], np.random.default_rng([0, 2]))
     disk = logs[synth.log.log_id]
     assert disk.track_ids.tolist() == synth.log.track_ids.tolist()
-    np.testing.assert_allclose(disk.x_m[1:], synth.log.x_m[1:], atol=1e-6, equal_nan=True)
-    ego_dx = synth.log.x_m[0] - disk.x_m[0]
-    ego_dy = synth.log.y_m[0] - disk.y_m[0]
-    np.testing.assert_allclose(np.hypot(ego_dx, ego_dy), AV2_EGO_CENTER_OFFSET_M, atol=1e-6)
+    # Every track, the ego included, comes back at its box centre (the file holds the rear axle).
+    np.testing.assert_allclose(disk.x_m, synth.log.x_m, atol=1e-6, equal_nan=True)
+    np.testing.assert_allclose(disk.y_m, synth.log.y_m, atol=1e-6, equal_nan=True)
+    assert disk.ego_pose_offset_m == AV2_EGO_CENTER_OFFSET_M
+    pose_x, pose_y = disk.ego_pose_xy_m()
+    poses = feather.read_table(result.out_dir / synth.log.log_id / "city_SE3_egovehicle.feather")
+    assert poses.num_rows == synth.log.n_timestamps
+    np.testing.assert_allclose(poses.column("tx_m").to_numpy(), pose_x, atol=1e-6)
+    np.testing.assert_allclose(poses.column("ty_m").to_numpy(), pose_y, atol=1e-6)
     assert synth.label == result.labels[2]
 
 

@@ -15,7 +15,6 @@ import pytest
 from mining_scenes import T_S, Obj, const, idx, make_log, street_map, street_objects, street_scene
 
 from scenariominer.config.mining import MiningConfig, SandboxConfig
-from scenariominer.data.av2 import AV2_EGO_CENTER_OFFSET_M
 from scenariominer.mine import predicates as P
 from scenariominer.mine.context import LogContext, MapRequiredError, box_distance
 from scenariominer.mine.scenario import Scenario
@@ -81,16 +80,13 @@ def test_relative_position_is_in_the_subjects_frame(street: LogContext) -> None:
     assert street.box_distance(np.array([ego]), np.array([bike]))[0, 0, 10] == pytest.approx(3.6 - 1.0 - 0.3)
 
 
-def test_av2_ego_box_centre_is_moved_forward_from_the_rear_axle() -> None:
+def test_positions_are_box_centres_whatever_the_dataset() -> None:
+    # The AV2 reader moves the ego to its box centre; the mining context takes positions as they are.
     objs = street_objects()
     plain = LogContext(make_log(objs, log_id="s", dataset="synthetic"))
     av2 = LogContext(make_log(objs, log_id="s", dataset="av2"))
+    np.testing.assert_array_equal(av2.cx_m, plain.cx_m)
     assert plain.cx_m[0, 0] == pytest.approx(0.0)
-    assert av2.cx_m[0, 0] == pytest.approx(AV2_EGO_CENTER_OFFSET_M)
-    assert MiningConfig().av2_ego_center_offset_m == AV2_EGO_CENTER_OFFSET_M
-    custom = LogContext(make_log(objs, log_id="s", dataset="av2"), MiningConfig(av2_ego_center_offset_m=0.5))
-    assert custom.cx_m[0, 0] == pytest.approx(0.5)
-    assert av2.cx_m[1, 0] == pytest.approx(plain.cx_m[1, 0])  # other tracks unchanged
 
 
 # ====================================================================== selection

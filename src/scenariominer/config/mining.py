@@ -227,9 +227,6 @@ class MiningConfig:
         stop_sign_max_right_m: ``at_stop_sign``: the object is at most this far (metres) to the
             right of the stop sign's forward axis (RefAV: 7 m); the forward distance is an argument.
         stop_sign_min_behind_m: ... and at most this far (metres) behind the sign's plane (RefAV: 1 m).
-        av2_ego_center_offset_m: Argoverse 2 reports the ego pose at the rear axle; the ego's box
-            centre lies this far (metres) ahead of it (Ford Fusion: 4.877 m long, rear axle 1.016 m
-            from the rear bumper, so 1.422 m). Only applied to logs whose ``dataset`` is ``av2``.
         postprocess_min_timestamps: after a program ran, referred tracks referred at fewer than
             this many timestamps are dropped as noise (RefAV: 2).
         postprocess_min_run_timestamps: a run of ``k`` referred timestamps shorter than this
@@ -263,7 +260,6 @@ class MiningConfig:
     crossing_min_speed_mps: float = 0.2
     stop_sign_max_right_m: float = 7.0
     stop_sign_min_behind_m: float = 1.0
-    av2_ego_center_offset_m: float = 1.422
     postprocess_min_timestamps: int = 2
     postprocess_min_run_timestamps: int = 3
     postprocess_max_relation_distance_m: float = 50.0

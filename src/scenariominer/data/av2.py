@@ -15,9 +15,13 @@ Boxes are moved to the city frame with the ego pose *of the same timestamp*
 missing from the poses is interpolated (positions linearly, rotation by spherical linear
 interpolation) and noted. Headings are the yaw of the composed rotation.
 
-The ego pose is the rear axle of the data-collection vehicle (the ``EGO_VEHICLE`` row sits at the
-origin of its own frame); it is kept as is: consumers that need the ego's box centre shift it
-forward by :data:`AV2_EGO_CENTER_OFFSET_M`.
+The ego pose (``city_SE3_egovehicle``) is the origin of the ego-vehicle frame, the rear axle of the
+data-collection vehicle; the ``EGO_VEHICLE`` row sits at that origin. The ``Log`` contract is box
+centres, so the reader moves the ego :data:`AV2_EGO_CENTER_OFFSET_M` forward along its heading to the
+centre of its 4.877 m box and records the offset in ``Log.ego_pose_offset_m``; the writer moves it
+back. The scenario-mining ground truth's ``ego_translation_m`` is the pose (rear axle), not the box
+centre: it equals ``city_SE3_egovehicle``'s translation at every evaluated timestamp of the shared log
+(checked in tests/data/test_av2.py), so exports give ``Log.ego_pose_xy_m()`` there.
 """
 
 from __future__ import annotations
@@ -280,7 +284,7 @@ def read_av2_log(
             Its content hash becomes :attr:`Log.source_hash`.
 
     Returns:
-        The log (``dataset="av2"``, ego pose at the rear axle, ``map_dir`` set when a ``map/``
+        The log (``dataset="av2"``, ego at its box centre, ``map_dir`` set when a ``map/``
         folder exists).
 
     Raises:
@@ -339,6 +343,11 @@ def read_av2_log(
     rot_rows = rot_pose[inverse]
     xyz_city = rot_rows.apply(t_ego) + xyz_pose[inverse]
     yaw_city = _yaw_from_rotation(rot_rows * Rotation.from_quat(quat, scalar_first=True))
+    # The ego's box centre lies AV2_EGO_CENTER_OFFSET_M ahead of the pose (rear axle) along its heading
+    # (in the ground plane, so Log.ego_pose_xy_m gives the pose back exactly; z stays the pose's).
+    is_ego = category == EGO_CATEGORY
+    xyz_city[is_ego, 0] += AV2_EGO_CENTER_OFFSET_M * np.cos(yaw_city[is_ego])
+    xyz_city[is_ego, 1] += AV2_EGO_CENTER_OFFSET_M * np.sin(yaw_city[is_ego])
 
     fields: dict[str, Any] = {
         "x_m": xyz_city[:, 0],
@@ -363,7 +372,9 @@ def read_av2_log(
         source_hash=source_hash,
         min_track_frames=min_track_frames,
     )
-    return log.replace(source_path=log_dir, notes=(*notes, *log.notes))
+    return log.replace(
+        source_path=log_dir, notes=(*notes, *log.notes), ego_pose_offset_m=AV2_EGO_CENTER_OFFSET_M
+    )
 
 
 # ---------------------------------------------------------------------- writing
@@ -388,8 +399,9 @@ def write_av2_log(log: Log, out_dir: Path) -> Path:
     Writes ``annotations_with_ego.feather`` (every valid cell, the ego as ``EGO_VEHICLE`` at the
     origin, boxes in the ego frame of their timestamp, ``num_interior_pts`` estimated with
     :func:`estimate_interior_points`) and ``city_SE3_egovehicle.feather`` (the ego track as the
-    pose at each annotation timestamp; rotation about the vertical axis only). The ego track is
-    taken to be the AV2 pose (rear axle), as :func:`read_av2_log` returns it.
+    pose at each annotation timestamp; rotation about the vertical axis only). The log's ego is at
+    its box centre (the ``Log`` contract); the written pose is the rear axle,
+    :data:`AV2_EGO_CENTER_OFFSET_M` behind it, so :func:`read_av2_log` gives the same centre back.
 
     Args:
         log: the log; its ego must be valid at every timestamp where any track is.
@@ -410,7 +422,10 @@ def write_av2_log(log: Log, out_dir: Path) -> Path:
             f"log {log.log_id}: the ego is not observed at timestamp_ns={t}; cannot write ego-frame boxes"
         )
     cols = np.flatnonzero(ego_valid)
-    ex, ey, eyaw = log.x_m[ego], log.y_m[ego], log.yaw_rad[ego]
+    # The pose (and the frame of every box) is the rear axle, behind the ego's box centre.
+    eyaw = log.yaw_rad[ego]
+    ex = log.x_m[ego] - AV2_EGO_CENTER_OFFSET_M * np.cos(eyaw)
+    ey = log.y_m[ego] - AV2_EGO_CENTER_OFFSET_M * np.sin(eyaw)
     ez = np.nan_to_num(log.z_m[ego])
 
     # Cells in AV2 order: by timestamp, the ego first at each timestamp.
@@ -425,7 +440,7 @@ def write_av2_log(log: Log, out_dir: Path) -> Path:
     tz = np.nan_to_num(log.z_m[rows, tcols]) - ez[tcols]
     rel_yaw = np.angle(np.exp(1j * (log.yaw_rad[rows, tcols] - eyaw[tcols])))
     is_ego = rows == ego
-    tx[is_ego], ty[is_ego], tz[is_ego], rel_yaw[is_ego] = 0.0, 0.0, 0.0, 0.0
+    tx[is_ego], ty[is_ego], tz[is_ego], rel_yaw[is_ego] = 0.0, 0.0, 0.0, 0.0  # AV2 puts the ego at the origin
     length = log.length_m[rows, tcols]
     width = log.width_m[rows, tcols]
     height = np.nan_to_num(log.height_m[rows, tcols], nan=1.5)

@@ -31,6 +31,10 @@ FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
 
 #: The per-track, per-timestamp float fields of a :class:`Log`, all shaped ``(N, T)``.
+#: Version of what a stored log means; part of the ingestion fingerprint, so a change re-ingests
+#: every stored log. 2: the Argoverse 2 ego is stored at its box centre (was: the rear axle).
+LOG_SCHEMA_VERSION = 2
+
 STATE_FIELDS: tuple[str, ...] = (
     "x_m",
     "y_m",
@@ -85,6 +89,11 @@ class Log:
         source_hash: content hash of the source files (drives incremental ingestion).
         notes: human-readable repairs applied while reading (e.g. dropped one-frame tracks).
         ego_index: index of the ego track; always 0 for logs built by this package.
+        ego_pose_offset_m: distance, metres, from the ego's box centre BACK along its heading to the
+            point the source format reports as the ego pose (the origin of its vehicle frame).
+            Positions in the log are always box centres; this only lets a writer or an exporter
+            give the pose back in the source's convention. Argoverse 2 reports the rear axle,
+            1.422 m behind the box centre; 0 for formats that report box centres.
     """
 
     log_id: str
@@ -109,6 +118,7 @@ class Log:
     source_hash: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
     ego_index: int = 0
+    ego_pose_offset_m: float = 0.0
 
     # ------------------------------------------------------------------ basic properties
     @property
@@ -166,6 +176,13 @@ class Log:
     def replace(self, **changes: Any) -> Log:
         """Return a copy with some fields replaced (see :func:`dataclasses.replace`)."""
         return dataclasses.replace(self, **changes)
+
+    def ego_pose_xy_m(self) -> tuple[FloatArray, FloatArray]:
+        """``(T,)`` x and y of the ego pose in the source's convention (see :attr:`ego_pose_offset_m`)."""
+        e = self.ego_index
+        x: FloatArray = self.x_m[e] - self.ego_pose_offset_m * np.cos(self.yaw_rad[e])
+        y: FloatArray = self.y_m[e] - self.ego_pose_offset_m * np.sin(self.yaw_rad[e])
+        return x, y
 
     def select_tracks(self, mask_or_index: BoolArray | NDArray[np.int64]) -> Log:
         """Return a log with a subset of tracks; the ego must remain at row 0."""

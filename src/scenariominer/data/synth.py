@@ -32,8 +32,8 @@ it has reached its lowest speed. For ``not_relevant`` it is the time the guest s
 40 m of the ego.
 
 The in-memory logs (:func:`generate_log`) carry the ego's box centre (``dataset="synthetic"``).
-Written logs follow the Argoverse 2 convention: the ego pose is the rear axle,
-:data:`~scenariominer.data.av2.AV2_EGO_CENTER_OFFSET_M` behind the box centre.
+Written logs follow the Argoverse 2 convention (the writer moves the ego pose to the rear axle,
+:data:`~scenariominer.data.av2.AV2_EGO_CENTER_OFFSET_M` behind the box centre, and the reader back).
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from scenariominer.data.av2 import AV2_EGO_CENTER_OFFSET_M, AV2_EGO_SIZE_M, write_av2_log
+from scenariominer.data.av2 import AV2_EGO_SIZE_M, write_av2_log
 from scenariominer.data.av2_map import (
     Av2Map,
     DrivableArea,
@@ -1148,15 +1148,6 @@ def generate_log(category: ScenarioCategory | str, rng: np.random.Generator) -> 
     return SynthLog(log=log, av2_map=_build_map(scene.layout, tf, z0), label=label, layout=scene.layout)
 
 
-def ego_to_av2_pose(log: Log) -> Log:
-    """Move the ego track from its box centre back to the Argoverse 2 pose (rear axle)."""
-    x, y = log.x_m.copy(), log.y_m.copy()
-    e = log.ego_index
-    x[e] -= AV2_EGO_CENTER_OFFSET_M * np.cos(log.yaw_rad[e])
-    y[e] -= AV2_EGO_CENTER_OFFSET_M * np.sin(log.yaw_rad[e])
-    return log.replace(x_m=x, y_m=y)
-
-
 def write_labels(labels: Sequence[ScenarioLabel], path: Path) -> Path:
     """Write label rows as CSV with the columns :data:`LABEL_COLUMNS`."""
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -1239,7 +1230,7 @@ def generate(
     log_dirs, labels, n_tracks = [], [], []
     for i in range(n):
         synth = generate_log(cycle[i % len(cycle)], np.random.default_rng([seed, i]))
-        log_dir = write_av2_log(ego_to_av2_pose(synth.log), out_dir)
+        log_dir = write_av2_log(synth.log, out_dir)
         write_av2_map(
             synth.av2_map, log_dir / "map" / f"log_map_archive_{synth.log.log_id}____SYN_city_{i:05d}.json"
         )
@@ -1259,7 +1250,6 @@ __all__ = [
     "ScenarioLabel",
     "SynthLog",
     "SynthResult",
-    "ego_to_av2_pose",
     "generate",
     "generate_log",
     "read_labels",

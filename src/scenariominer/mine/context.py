@@ -28,7 +28,7 @@ from scipy.sparse.csgraph import connected_components
 
 from scenariominer.config.mining import MiningConfig
 from scenariominer.data.av2_map import Av2Map, read_av2_map
-from scenariominer.data.categories import EGO_CATEGORY, expand_categories
+from scenariominer.data.categories import expand_categories
 from scenariominer.data.log import BoolArray, FloatArray, Log
 
 __all__ = [
@@ -499,20 +499,9 @@ class LogContext:
 
     @cached_property
     def center_xy_m(self) -> tuple[FloatArray, FloatArray]:
-        """``(N, T)`` x and y of the box centres, world frame.
-
-        Equal to the log positions except for an Argoverse 2 ego, whose reported position is its
-        rear axle: its centre is moved :attr:`MiningConfig.av2_ego_center_offset_m` forward.
-        """
+        """``(N, T)`` x and y of the box centres, world frame (NaN where not observed)."""
         x = np.where(self.valid, self.log.x_m, np.nan)
         y = np.where(self.valid, self.log.y_m, np.nan)
-        offset = self.config.av2_ego_center_offset_m
-        e = self.ego_index
-        if self.log.dataset == "av2" and self.log.categories[e] == EGO_CATEGORY and offset:
-            x = x.copy()
-            y = y.copy()
-            x[e] += offset * self.cos_yaw[e]
-            y[e] += offset * self.sin_yaw[e]
         return x, y
 
     @property

@@ -42,7 +42,7 @@ import numpy as np
 import pyarrow as pa
 from numpy.typing import NDArray
 
-from scenariominer.data.log import BoolArray, Log
+from scenariominer.data.log import BoolArray, FloatArray, Log
 from scenariominer.mine.context import IntArray
 from scenariominer.mine.scenario import Scenario
 
@@ -324,6 +324,7 @@ def av2_frames(
     labels[related] = int(ObjectLabel.RELATED)
     labels[referred] = int(ObjectLabel.REFERRED)
     ego = raw.ego_index
+    pose_x, pose_y = raw.ego_pose_xy_m()  # the source's ego pose (AV2: rear axle), as the GT has it
     z = np.nan_to_num(raw.z_m, nan=0.0)
     height = np.nan_to_num(raw.height_m, nan=0.0)
     frames: list[dict[str, Any]] = []
@@ -334,9 +335,9 @@ def av2_frames(
             {
                 "seq_id": key,
                 "timestamp_ns": np.int64(raw.timestamps_ns[col]),
-                "ego_translation_m": [float(raw.x_m[ego, col]), float(raw.y_m[ego, col]), float(z[ego, col])],
+                "ego_translation_m": [float(pose_x[col]), float(pose_y[col]), float(z[ego, col])],
                 "description": matches.description,
-                "translation_m": np.stack([raw.x_m[rows, col], raw.y_m[rows, col], z[rows, col]], axis=1),
+                "translation_m": _box_positions(raw, rows, col, pose_x, pose_y, z),
                 "size": np.stack(
                     [raw.length_m[rows, col], raw.width_m[rows, col], height[rows, col]], axis=1
                 ).astype(np.float32),
@@ -373,6 +374,16 @@ def write_av2_submission(
         pickle.dump(dict(submission), fh, protocol=pickle.HIGHEST_PROTOCOL)
     tmp.replace(out)
     return out
+
+
+def _box_positions(
+    raw: Log, rows: NDArray[np.intp], col: int, pose_x: FloatArray, pose_y: FloatArray, z: FloatArray
+) -> FloatArray:
+    """``(len(rows), 3)`` box positions at ``col``; the ego's at its source pose, as the AV2 GT places it."""
+    xyz = np.stack([raw.x_m[rows, col], raw.y_m[rows, col], z[rows, col]], axis=1)
+    ego = rows == raw.ego_index
+    xyz[ego, 0], xyz[ego, 1] = pose_x[col], pose_y[col]
+    return xyz
 
 
 _FRAME_KEYS = ("timestamp_ns", "translation_m", "size", "yaw", "label", "track_id", "name")

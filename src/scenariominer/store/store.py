@@ -193,6 +193,7 @@ class LogMeta:
         categories: number of tracks per category.
         notes: repairs applied while reading the log.
         ingested_at: when the log was last ingested (UTC).
+        ego_pose_offset_m: see :attr:`Log.ego_pose_offset_m`.
     """
 
     log_id: str
@@ -210,6 +211,7 @@ class LogMeta:
     categories: Mapping[str, int]
     notes: tuple[str, ...]
     ingested_at: datetime
+    ego_pose_offset_m: float = 0.0
 
     @classmethod
     def of_log(cls, log: Log, source_key: str, ingested_at: datetime) -> LogMeta:
@@ -230,6 +232,7 @@ class LogMeta:
             categories=log.category_counts(),
             notes=tuple(log.notes),
             ingested_at=ingested_at,
+            ego_pose_offset_m=float(log.ego_pose_offset_m),
         )
 
     def to_json_dict(self) -> dict[str, Any]:
@@ -243,7 +246,7 @@ class LogMeta:
     @classmethod
     def from_json_dict(cls, data: Mapping[str, Any]) -> LogMeta:
         """Inverse of :meth:`to_json_dict`."""
-        fields = {name: data[name] for name in cls.__dataclass_fields__}
+        fields = {name: data[name] for name in cls.__dataclass_fields__ if name in data}
         fields["categories"] = {str(k): int(v) for k, v in data["categories"].items()}
         fields["notes"] = tuple(data["notes"])
         fields["ingested_at"] = datetime.fromisoformat(data["ingested_at"])
@@ -1129,6 +1132,7 @@ def _meta_table(rows: Sequence[_LogRow], snap: _Snapshot) -> pa.Table:
             "notes": pa.array([list(m.notes) for m in metas], pa.list_(pa.string())),
             "tables": pa.array([has.get(m.log_id, []) for m in metas], pa.list_(pa.string())),
             "ingested_at": pa.array(col("ingested_at"), pa.timestamp("us", tz="UTC")),
+            "ego_pose_offset_m": pa.array(col("ego_pose_offset_m"), pa.float64()),
         }
     )
 
@@ -1166,7 +1170,9 @@ def _check_storable(log: Log) -> None:
 def _log_digest(log: Log) -> str:
     """SHA-256 over everything the tracks file stores (arrays at valid cells, ids, categories)."""
     h = hashlib.sha256()
-    h.update(json.dumps([log.dataset, str(log.map_dir) if log.map_dir else None]).encode())
+    h.update(
+        json.dumps([log.dataset, str(log.map_dir) if log.map_dir else None, log.ego_pose_offset_m]).encode()
+    )
     h.update(np.ascontiguousarray(log.timestamps_ns, dtype="<i8").tobytes())
     for names in (log.track_ids, log.categories):
         h.update("\x1f".join(str(s) for s in names.tolist()).encode())
@@ -1205,6 +1211,7 @@ def _log_from_table(table: pa.Table, meta: LogMeta, path: Path) -> Log:
     return log.replace(
         source_path=Path(meta.source_path) if meta.source_path else None,
         notes=tuple(meta.notes),
+        ego_pose_offset_m=meta.ego_pose_offset_m,
     )
 
 
