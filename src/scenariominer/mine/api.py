@@ -435,21 +435,31 @@ def load_logs(
 def raw_logs_for(logs: Sequence[Log], config: Config | None = None) -> dict[str, Log]:
     """The RAW (unsmoothed) version of each log, for the Argoverse 2 export.
 
-    Argoverse 2 logs are re-read from their source folder (the ground truth uses the raw
-    annotation boxes); logs of other formats, or whose folder is gone, are used as they are.
+    Each log is re-read from its source with the reader of its format (the ground truth uses the
+    raw annotation boxes); a log whose source is gone or no longer yields it is used as it is.
     """
     from scenariominer.config import load_config
-    from scenariominer.data.av2 import is_av2_log_dir, read_av2_log
 
     cfg = config or load_config()
-    out: dict[str, Log] = {}
-    for log in logs:
-        src = log.source_path
-        if log.dataset == "av2" and src is not None and is_av2_log_dir(Path(src)):
-            out[log.log_id] = read_av2_log(Path(src), min_track_frames=cfg.ingest.min_track_frames)
-        else:
-            out[log.log_id] = log
-    return out
+    return {log.log_id: _reread(log, cfg) or log for log in logs}
+
+
+def _reread(log: Log, config: Config) -> Log | None:
+    """``log`` read again from ``log.source_path`` by the reader of ``log.dataset``, if possible."""
+    from scenariominer.data.log import LogFormatError
+    from scenariominer.data.sources import default_readers, discover_sources
+
+    readers = [r for r in default_readers() if r.format == log.dataset]
+    if log.source_path is None or not readers or not Path(log.source_path).exists():
+        return None
+    try:
+        for source in discover_sources([log.source_path], readers):
+            for raw in readers[0].read(source, config):
+                if raw.log_id == log.log_id:
+                    return raw
+    except LogFormatError:
+        return None
+    return None
 
 
 def make_synthesizer(config: Config | None = None, *, leave_one_out: bool = True) -> ProgramSynthesizer:
