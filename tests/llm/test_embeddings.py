@@ -229,9 +229,12 @@ def test_missing_bundled_package_names_the_extra(monkeypatch):
         bundled_sentence_transformer_path()
 
 
-def test_mismatch_error_is_the_stores_error_too():
+def test_mismatch_error_is_caught_by_the_shared_family():
+    # One except clause catches a mismatch from the embedder and from the store's vector tables.
+    from scenariominer.errors import EmbeddingMismatchError as Shared
     from scenariominer.store import EmbeddingMismatchError as StoreMismatch
 
     a = Embeddings(unit_rows(1, 4), "m", 4)
-    with pytest.raises(StoreMismatch):
+    with pytest.raises(Shared):
         a.require("m", 8)
+    assert issubclass(StoreMismatch, Shared)

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
+from scenariominer import errors as _errors
 from scenariominer.config.data import IngestConfig, PreprocessConfig, StoreConfig
 from scenariominer.config.explain import ExplainConfig
 from scenariominer.config.llm import EmbeddingConfig, LLMConfig
@@ -44,7 +45,7 @@ __all__ = [
 ENV_PREFIX = "SCENARIOMINER__"
 
 
-class ConfigError(ValueError):
+class ConfigError(_errors.ConfigError):
     """The configuration file or an override is invalid; the message names the key."""
 
 

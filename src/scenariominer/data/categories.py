@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
+from scenariominer import errors as _errors
+
 #: Argoverse 2 sensor-dataset categories, in the order of the official taxonomy, plus the ego.
 AV2_CATEGORIES: tuple[str, ...] = (
     "REGULAR_VEHICLE",
@@ -105,7 +107,7 @@ CATEGORY_ALIASES: dict[str, str] = {
 }
 
 
-class UnknownCategoryError(ValueError):
+class UnknownCategoryError(_errors.DataError):
     """Raised when a category name is neither an Argoverse 2 name nor a known alias."""
 
 

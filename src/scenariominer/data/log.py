@@ -25,6 +25,7 @@ import numpy as np
 import pyarrow as pa
 from numpy.typing import NDArray
 
+from scenariominer import errors as _errors
 from scenariominer.data.categories import EGO_CATEGORY, UnknownCategoryError, canonical_category
 
 FloatArray = NDArray[np.float64]
@@ -53,7 +54,7 @@ STATE_FIELDS: tuple[str, ...] = (
 REQUIRED_FIELDS: tuple[str, ...] = ("x_m", "y_m", "yaw_rad", "length_m", "width_m")
 
 
-class LogFormatError(ValueError):
+class LogFormatError(_errors.DataError):
     """A log cannot be read or is malformed; the message names the source and the problem.
 
     Attributes:

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
+from scenariominer import errors as _errors
 from scenariominer.eval.metrics import PRF, category_prf, micro_prf, precision_at_k, recall_at_k
 from scenariominer.explain.categories import NOT_RELEVANT, CategorySet
 from scenariominer.explain.records import EMBEDDINGS_TABLE, RUNS_TABLE
@@ -70,7 +71,7 @@ OOD_QUERIES: dict[str, str] = {
 Pair = tuple[str, str]
 
 
-class LabelFileError(ValueError):
+class LabelFileError(_errors.EvaluationError):
     """A labels file cannot be read; the message names the file (and line) and the problem."""
 
     def __init__(self, path: str | Path, problem: str) -> None:

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from scenariominer import errors as _errors
 from scenariominer.mine.export import ObjectLabel, SubmissionFormatError, read_av2_submission
 
 __all__ = [
@@ -52,7 +53,7 @@ _REFERRED = int(ObjectLabel.REFERRED)
 Submission = Mapping[tuple[str, str], list[dict[str, Any]]]
 
 
-class MiningEvaluationError(ValueError):
+class MiningEvaluationError(_errors.EvaluationError):
     """The prediction cannot be evaluated against the ground truth; the message says why."""
 
 

@@ -20,6 +20,8 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from scenariominer import errors as _errors
+
 __all__ = [
     "DEFAULT_CATEGORIES",
     "ERROR_CATEGORY",
@@ -51,7 +53,7 @@ RESERVED_NAMES = frozenset({INVALID_CATEGORY, ERROR_CATEGORY, PENDING_CATEGORY})
 _NAME_RE = re.compile(r"^[a-z][a-z0-9_]{0,63}$")
 
 
-class CategoryFileError(ValueError):
+class CategoryFileError(_errors.ExplainError, ValueError):
     """A category file cannot be used; the message names the file and the problem."""
 
     def __init__(self, path: str | Path, problem: str) -> None:

@@ -21,6 +21,7 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.compute as pc
 
+from scenariominer import errors as _errors
 from scenariominer.explain.records import (
     EMBEDDINGS_TABLE,
     EVENTS_TABLE,
@@ -42,7 +43,7 @@ __all__ = [
 ]
 
 
-class NoEventsError(LookupError):
+class NoEventsError(_errors.ExplainError, LookupError):
     """The store holds no analysed events (run ``scenariominer analyze`` first)."""
 
     def __init__(self, root: str) -> None:

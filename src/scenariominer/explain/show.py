@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from scenariominer import errors as _errors
 from scenariominer.config.explain import ExplainConfig
 from scenariominer.data.log import Log, LogFormatError
 from scenariominer.explain.records import EventRecord, records_from_table
@@ -38,7 +39,7 @@ _VIEW_MARGIN_M = 15.0
 _MIN_VIEW_M = 40.0
 
 
-class UnknownEventError(LookupError):
+class UnknownEventError(_errors.ExplainError, LookupError):
     """The requested event is not in the store; the message lists the log's events."""
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from scenariominer.store.vectors import EmbeddingMismatchError as StoreEmbeddingMismatchError
+from scenariominer import errors as _errors
 
 __all__ = [
     "BackendConnectionError",
@@ -25,7 +25,7 @@ INSTALL_LLM_HINT = "pip install 'scenariominer[llm]'"
 INSTALL_EMBED_HINT = "pip install 'scenariominer[embed]'"
 
 
-class LLMError(Exception):
+class LLMError(_errors.LLMError):
     """Base class of every error raised by :mod:`scenariominer.llm`."""
 
 
@@ -151,11 +151,11 @@ class StructuredOutputError(LLMError):
         )
 
 
-class EmbeddingMismatchError(StoreEmbeddingMismatchError, LLMError):
+class EmbeddingMismatchError(_errors.EmbeddingMismatchError, LLMError):
     """Vectors of different models or dimensions were about to be mixed.
 
-    A subclass of the store's :class:`scenariominer.store.EmbeddingMismatchError`, so one
-    ``except`` clause catches a mismatch wherever it is detected.
+    A subclass of :class:`scenariominer.errors.EmbeddingMismatchError`, which the store and the
+    vector index raise too, so one ``except`` clause catches a mismatch wherever it is detected.
 
     Attributes:
         expected: ``(model, dim)`` of the reference vectors.

@@ -41,6 +41,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 from numpy.typing import NDArray
 
+from scenariominer import errors as _errors
 from scenariominer.config.mining import ClipFilterConfig
 from scenariominer.data.log import BoolArray, Log
 from scenariominer.llm.errors import MissingDependencyError
@@ -69,11 +70,11 @@ CROPS_FILES = ("crops.parquet", "crops.json")
 _CROP_COLUMNS = ("timestamp_ns", "track_id", "image", "x0", "y0", "x1", "y1")
 
 
-class CameraFrameError(ValueError):
+class CameraFrameError(_errors.MiningError, ValueError):
     """A camera-frame folder or its crop table is missing or malformed; the message names it."""
 
 
-class ClipModelError(ValueError):
+class ClipModelError(_errors.MiningError, ValueError):
     """The CLIP model folder is missing or does not hold a CLIP model and processor."""
 
 

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from scenariominer import errors as _errors
 from scenariominer.config.mining import MiningConfig
 from scenariominer.data.av2_map import Av2Map, read_av2_map
 from scenariominer.data.categories import expand_categories
@@ -86,7 +87,7 @@ _PAIR_CACHE_ENTRIES = 32
 _CHUNK_CELLS = 1_000_000
 
 
-class MapRequiredError(RuntimeError):
+class MapRequiredError(_errors.MiningError, RuntimeError):
     """A map-aware predicate was called on a log without an HD map.
 
     The message is written for the program-repair loop: it names the predicate and lists

@@ -42,6 +42,7 @@ import numpy as np
 import pyarrow as pa
 from numpy.typing import NDArray
 
+from scenariominer import errors as _errors
 from scenariominer.data.log import BoolArray, FloatArray, Log
 from scenariominer.mine.context import IntArray
 from scenariominer.mine.scenario import Scenario
@@ -91,7 +92,7 @@ class ObjectLabel(IntEnum):
 _LABEL_NAMES = np.array([label.av2_name for label in ObjectLabel], dtype="<U31")
 
 
-class SubmissionFormatError(ValueError):
+class SubmissionFormatError(_errors.MiningError, ValueError):
     """A submission or ground-truth pickle does not have the Argoverse 2 scenario-mining layout."""
 
 

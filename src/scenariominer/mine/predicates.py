@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from scenariominer import errors as _errors
 from scenariominer.data.log import BoolArray, FloatArray, time_derivative
 from scenariominer.mine.context import IntArray, LogContext, wrap_angle
 from scenariominer.mine.scenario import (
@@ -1385,7 +1386,7 @@ def _stop_sign_lanes(ctx: LogContext, hd: Any) -> IntArray:
 # ====================================================================== output
 
 
-class OutputError(RuntimeError):
+class OutputError(_errors.MiningError, RuntimeError):
     """``output_scenario`` was misused (not a scenario, wrong log, called twice)."""
 
 

@@ -54,6 +54,7 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
+from scenariominer import errors as _errors
 from scenariominer.data.log import STATE_FIELDS, Log, LogFormatError
 
 #: Value of ``format`` in ``store.json``.
@@ -109,7 +110,7 @@ CREATE INDEX IF NOT EXISTS log_tables_by_name ON log_tables (name);
 # ---------------------------------------------------------------------- errors
 
 
-class StoreError(Exception):
+class StoreError(_errors.StoreError):
     """Base class of every error raised by the store."""
 
 

@@ -23,6 +23,8 @@ import pyarrow as pa
 import pyarrow.compute as pc
 from numpy.typing import ArrayLike, NDArray
 
+from scenariominer import errors as _errors
+
 if TYPE_CHECKING:
     from scenariominer.store.store import ScenarioStore
 
@@ -37,11 +39,11 @@ _MAX_SCORES_PER_BLOCK = 1 << 24
 _NORMALIZE_BLOCK_ROWS = 8192
 
 
-class ZeroVectorError(ValueError):
+class ZeroVectorError(_errors.StoreError, ValueError):
     """A vector has zero length (or non-finite entries) and has no direction to compare."""
 
 
-class EmbeddingMismatchError(ValueError):
+class EmbeddingMismatchError(_errors.EmbeddingMismatchError):
     """Vectors from different models or dimensions were about to be compared."""
 
 

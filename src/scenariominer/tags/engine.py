@@ -16,6 +16,7 @@ import numpy as np
 import pyarrow as pa
 from numpy.typing import NDArray
 
+from scenariominer import errors as _errors
 from scenariominer.config.tags import TagConfig
 from scenariominer.data.categories import EGO_CATEGORY
 from scenariominer.data.log import Log
@@ -38,7 +39,7 @@ _META_LOG_ID = b"scenariominer.log_id"
 _META_TIMESTAMPS = b"scenariominer.timestamps_ns"
 
 
-class TagTableError(ValueError):
+class TagTableError(_errors.TagError):
     """A tag table cannot be turned back into :class:`LogTags`; the message names the problem."""
 
 

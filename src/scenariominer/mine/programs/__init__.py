@@ -28,13 +28,15 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from scenariominer import errors as _errors
+
 __all__ = ["BUILTIN_EXAMPLES_FILE", "ExampleBankError", "ExampleProgram", "load_examples", "parse_examples"]
 
 #: Name of the TOML file shipped with the package.
 BUILTIN_EXAMPLES_FILE = "examples.toml"
 
 
-class ExampleBankError(ValueError):
+class ExampleBankError(_errors.MiningError, ValueError):
     """An example-bank file is unreadable or malformed; the message names the file and entry."""
 
 
