@@ -29,10 +29,10 @@ from scenariominer.config import load_config
 from scenariominer.data.av2 import read_av2_log
 from scenariominer.data.preprocess import preprocess
 from scenariominer.data.synth import generate_log
-from scenariominer.mine.api import make_synthesizer
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.loop import ProgramCache, generate_program
 from scenariominer.mine.programs import load_examples
+from scenariominer.mine.query import make_synthesizer
 
 SHARED_LOG = Path(__file__).resolve().parents[2] / "shared/data/av2/3b3570b4-7b0b-3268-a571-b0889dbf40b6"
 KEY = "vehicle with a bicycle to its right"

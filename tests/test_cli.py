@@ -4,9 +4,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import json
+
 from typer.testing import CliRunner
 
 from scenariominer.cli import app
+from scenariominer.store import ScenarioStore
 
 runner = CliRunner()
 
@@ -27,15 +30,24 @@ def test_synth_ingest_info_round_trip(tmp_path: Path) -> None:
 
 def test_ingest_of_a_missing_path_names_it(tmp_path: Path) -> None:
     result = runner.invoke(app, ["ingest", str(tmp_path / "nope"), "--store", str(tmp_path / "s")])
-    assert result.exit_code == 1
+    assert result.exit_code == 2  # the user's to fix: one line, no traceback
     assert "nope" in result.output and "no such file" in result.output
+    assert "Traceback" not in result.output
 
 
 def test_store_defaults_to_the_environment_variable(tmp_path: Path) -> None:
     store = tmp_path / "envstore"
-    result = runner.invoke(app, ["info"], env={"SCENARIOMINER_STORE": str(store)})
+    ScenarioStore.open(store, create=True)
+    result = runner.invoke(app, ["info", "--json"], env={"SCENARIOMINER_STORE": str(store)})
     assert result.exit_code == 0, result.output
-    assert (store / "store.json").is_file()
+    assert json.loads(result.output)["n_logs"] == 0
+
+
+def test_info_never_creates_a_store(tmp_path: Path) -> None:
+    store = tmp_path / "none"
+    result = runner.invoke(app, ["info", "--store", str(store)])
+    assert result.exit_code == 2
+    assert "none" in result.output and not store.exists()
 
 
 def test_bad_config_file_is_reported(tmp_path: Path) -> None:

@@ -12,6 +12,7 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
+from scenariominer.cli import app as root_app
 from scenariominer.eval.mining import (
     BinaryCounts,
     MiningEvaluationError,
@@ -19,7 +20,6 @@ from scenariominer.eval.mining import (
     evaluate_mining,
     evaluate_mining_files,
 )
-from scenariominer.mine.cli import mining_command
 
 LOG = "3b3570b4-7b0b-3268-a571-b0889dbf40b6"
 PROMPT = "vehicle with a bicycle to its right"
@@ -158,21 +158,14 @@ def test_an_empty_prediction_scores_zero_and_one_half(gt: dict[Any, Any], av2_lo
 
 @pytest.fixture(scope="module")
 def cli() -> typer.Typer:
-    app = typer.Typer()
-    app.command("mining")(mining_command)
-
-    @app.command()
-    def noop() -> None:
-        """Nothing."""
-
-    return app
+    return root_app
 
 
 def test_eval_mining_command_reports_bad_input(cli: typer.Typer, tmp_path: Path) -> None:
     res = CliRunner().invoke(
-        cli, ["mining", "--pred", str(tmp_path / "p.pkl"), "--gt", str(tmp_path / "g.pkl")]
+        cli, ["eval", "mining", "--pred", str(tmp_path / "p.pkl"), "--gt", str(tmp_path / "g.pkl")]
     )
-    assert res.exit_code == 1 and "cannot read the pickle" in res.output
+    assert res.exit_code == 2 and "cannot read the pickle" in res.output
 
 
 @pytest.mark.slow
@@ -182,6 +175,7 @@ def test_eval_mining_command_prints_the_scores(
     pred_path = tmp_path / "pred.pkl"
     pred_path.write_bytes(pickle.dumps({k: with_scores(v) for k, v in gt.items()}))
     args = [
+        "eval",
         "mining",
         "--pred",
         str(pred_path),

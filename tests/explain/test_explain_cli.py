@@ -12,8 +12,8 @@ from typer.testing import CliRunner
 
 from scenariominer import api
 from scenariominer.config import Config
-from scenariominer.eval.cli import app as eval_app
-from scenariominer.explain import cli as explain_cli
+from scenariominer.api import braking as braking_api
+from scenariominer.cli import app as root_app
 from scenariominer.llm import ChatClient, ScriptedBackend
 from scenariominer.store import ScenarioStore
 
@@ -21,10 +21,7 @@ runner = CliRunner()
 
 
 def _app() -> typer.Typer:
-    app = typer.Typer()
-    explain_cli.register(app)
-    app.add_typer(eval_app, name="eval")
-    return app
+    return root_app
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +53,7 @@ def analysed(workspace: Path) -> Path:
         [answer("right_ped", "A pedestrian crosses while the ego turns right.", "why")] * 50
     )
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(explain_cli, "make_chat_client", lambda cfg: ChatClient(backend))
+        mp.setattr(braking_api, "make_chat_client", lambda cfg: ChatClient(backend))
         done = runner.invoke(app, _args(workspace, "analyze", "--json"))
     assert done.exit_code == 0, done.output
     report = json.loads(done.output)
@@ -103,20 +100,20 @@ def test_eval_braking(analysed: Path) -> None:
     assert table.exit_code == 0 and "Table V" in table.output
 
 
-def test_errors_exit_non_zero_with_a_message(workspace: Path, tmp_path: Path) -> None:
+def test_user_errors_exit_2_with_one_line(workspace: Path, tmp_path: Path) -> None:
     app = _app()
     missing = runner.invoke(app, ["search", "--category", "cut_in", "--store", str(tmp_path / "nope")])
-    assert missing.exit_code == 1 and "no store here" in _flat(missing.output)
+    assert missing.exit_code == 2 and "no store here" in _flat(missing.output)
     bad_cats = tmp_path / "cats.toml"
     bad_cats.write_text('invalid = "x"\n')
     res = runner.invoke(app, _args(workspace, "analyze", "--limit", "0", "--categories", str(bad_cats)))
-    assert res.exit_code == 1 and "reserved" in _flat(res.output)
+    assert res.exit_code == 2 and "reserved" in _flat(res.output)
     labels = workspace / "synth" / "labels.csv"
     res = runner.invoke(
         app, _args(workspace, "eval", "braking", "--labels", str(labels), "--categories", str(bad_cats))
     )
-    assert res.exit_code == 1 and "reserved" in _flat(res.output)
+    assert res.exit_code == 2 and "reserved" in _flat(res.output)
     res = runner.invoke(app, _args(workspace, "show", "no-such-log"))
-    assert res.exit_code == 1
+    assert res.exit_code == 2
     res = runner.invoke(app, _args(workspace, "eval", "braking", "--labels", str(tmp_path / "none.csv")))
-    assert res.exit_code == 1 and "does not exist" in _flat(res.output)
+    assert res.exit_code == 2 and "does not exist" in _flat(res.output)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from typer.testing import CliRunner
 
-from scenariominer.llm.cli import app
+from scenariominer.cli import app as root_app
 
 runner = CliRunner()
 
@@ -23,7 +23,7 @@ def write_config(tmp_path: Path, url: str) -> Path:
 
 def test_check_prints_backend_answer_tokens_and_usage(openai_server, tmp_path):
     result = runner.invoke(
-        app, ["check", "-c", str(write_config(tmp_path, openai_server.base_url)), "--embeddings"]
+        root_app, ["llm", "check", "-c", str(write_config(tmp_path, openai_server.base_url)), "--embeddings"]
     )
     assert result.exit_code == 0, result.output
     out = result.output
@@ -38,20 +38,20 @@ def test_check_prints_backend_answer_tokens_and_usage(openai_server, tmp_path):
 
 def test_check_bypasses_the_cache(openai_server, tmp_path):
     cfg = write_config(tmp_path, openai_server.base_url)
-    assert runner.invoke(app, ["check", "-c", str(cfg)]).exit_code == 0
-    assert runner.invoke(app, ["check", "-c", str(cfg)]).exit_code == 0
+    assert runner.invoke(root_app, ["llm", "check", "-c", str(cfg)]).exit_code == 0
+    assert runner.invoke(root_app, ["llm", "check", "-c", str(cfg)]).exit_code == 0
     assert len(openai_server.bodies("/v1/chat/completions")) == 2
 
 
 def test_check_reports_an_unreachable_server(unused_url, tmp_path):
-    result = runner.invoke(app, ["check", "-c", str(write_config(tmp_path, unused_url))])
-    assert result.exit_code == 1
+    result = runner.invoke(root_app, ["llm", "check", "-c", str(write_config(tmp_path, unused_url))])
+    assert result.exit_code == 2
     assert "error:" in result.output and "cannot reach the server" in result.output
 
 
 def test_check_reports_an_invalid_config(tmp_path):
     p = tmp_path / "bad.toml"
     p.write_text('[llm]\nbackend = "gpt"\n')
-    result = runner.invoke(app, ["check", "-c", str(p)])
+    result = runner.invoke(root_app, ["llm", "check", "-c", str(p)])
     assert result.exit_code == 2
     assert "config error" in result.output

@@ -16,7 +16,6 @@ from mining_scenes import T_S, Obj, const, make_log
 
 from scenariominer.config.mining import ClipFilterConfig, MiningConfig
 from scenariominer.data.log import Log
-from scenariominer.mine.api import clip_candidates, mine_logs
 from scenariominer.mine.clip_filter import (
     CameraFrameError,
     CandidateTracklets,
@@ -31,6 +30,7 @@ from scenariominer.mine.clip_filter import (
 )
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.keywords import KeywordSet, ObjectPhrase
+from scenariominer.mine.query import clip_candidates, mine_logs
 from scenariominer.mine.sandbox import ProgramResult, run_trusted_program
 
 Image = pytest.importorskip("PIL.Image")

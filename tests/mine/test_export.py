@@ -12,17 +12,11 @@ import typer
 from mining_scenes import DT_S, T_S, Obj, const, make_log, street_scene
 from typer.testing import CliRunner
 
+from scenariominer.api.mining import store_report
+from scenariominer.cli import app as root_app
 from scenariominer.config.mining import GenerationConfig, MiningConfig
 from scenariominer.data.log import Log
 from scenariominer.llm import ChatClient, HashingEmbedder, ScriptedBackend
-from scenariominer.mine.api import (
-    ProgramSource,
-    av2_submission,
-    bank_program,
-    mine_logs,
-    store_report,
-)
-from scenariominer.mine.cli import register
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.export import (
     MATCHES_TABLE,
@@ -40,6 +34,12 @@ from scenariominer.mine.export import (
 )
 from scenariominer.mine.loop import GenerationStatus
 from scenariominer.mine.programs import load_examples
+from scenariominer.mine.query import (
+    ProgramSource,
+    av2_submission,
+    bank_program,
+    mine_logs,
+)
 from scenariominer.mine.sandbox import ProgramResult, run_trusted_program
 from scenariominer.mine.scenario import Scenario
 from scenariominer.mine.synthesis import ExampleSelector, ProgramSynthesizer
@@ -353,14 +353,7 @@ def test_results_are_stored_and_replace_only_the_same_description(
 
 @pytest.fixture(scope="module")
 def cli() -> typer.Typer:
-    app = typer.Typer()
-    register(app)
-
-    @app.command()
-    def noop() -> None:  # a second command keeps Typer in sub-command mode
-        """Nothing."""
-
-    return app
+    return root_app
 
 
 def test_mine_command_needs_logs_or_a_store(cli: typer.Typer) -> None:
@@ -422,7 +415,7 @@ def test_mine_command_exports_the_shared_log_aligned_to_the_ground_truth(
 def test_the_configured_synthesizer_uses_the_bank_files_and_the_generation_settings(tmp_path: Path) -> None:
     from scenariominer.config import Config
     from scenariominer.config.llm import EmbeddingConfig, LLMConfig
-    from scenariominer.mine.api import make_synthesizer
+    from scenariominer.mine.query import make_synthesizer
 
     extra = tmp_path / "bank.toml"
     extra.write_text(

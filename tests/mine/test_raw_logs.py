@@ -6,10 +6,10 @@ from pathlib import Path
 
 import numpy as np
 
+from scenariominer.api.mining import raw_logs_for
 from scenariominer.config import Config
 from scenariominer.data.av2 import read_av2_log
 from scenariominer.data.preprocess import preprocess
-from scenariominer.mine.api import raw_logs_for
 
 
 def test_smoothed_logs_are_replaced_by_their_raw_source(av2_log_dir: Path) -> None:

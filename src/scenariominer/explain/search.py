@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from enum import StrEnum
 from typing import Any
 
 import numpy as np
@@ -30,6 +29,7 @@ from scenariominer.explain.records import (
     records_from_table,
 )
 from scenariominer.llm.embeddings import Embedder
+from scenariominer.schema import SortKey
 from scenariominer.store import ScenarioStore, UnknownTableError
 from scenariominer.store.vectors import load_embeddings, normalize_rows
 
@@ -48,24 +48,6 @@ class NoEventsError(_errors.ExplainError, LookupError):
 
     def __init__(self, root: str) -> None:
         super().__init__(f"store {root} holds no analysed braking events; run `scenariominer analyze` first")
-
-
-class SortKey(StrEnum):
-    """Orders of search results.
-
-    Attributes:
-        SCORE: best cosine similarity first (text queries; log and time order otherwise).
-        TTC: smallest minimum time-to-collision first.
-        DECEL: largest peak deceleration first.
-        PET: smallest post-encroachment time first.
-        HEADWAY: smallest time headway first.
-    """
-
-    SCORE = "score"
-    TTC = "ttc"
-    DECEL = "decel"
-    PET = "pet"
-    HEADWAY = "headway"
 
 
 @dataclass(frozen=True)

@@ -11,19 +11,12 @@
 * :mod:`~scenariominer.mine.keywords`, :mod:`~scenariominer.mine.clip_filter`: the optional
   coarse-to-fine filter over camera crops;
 * :mod:`~scenariominer.mine.export`: store tables and the Argoverse 2 submission;
-* :mod:`~scenariominer.mine.api`: one query over many logs (what the ``mine`` command calls).
+* :mod:`~scenariominer.mine.query`: one query over many logs (the stage the ``mine`` use case of
+  :mod:`scenariominer.api.mining` calls).
 
 Importing this package loads neither a language model, spaCy, torch nor transformers.
 """
 
-from scenariominer.mine.api import (
-    LogFailure,
-    ProgramSource,
-    QueryReport,
-    av2_submission,
-    mine_logs,
-    store_report,
-)
 from scenariominer.mine.clip_filter import (
     CandidateTracklets,
     ClipEncoder,
@@ -51,6 +44,13 @@ from scenariominer.mine.loop import (
 from scenariominer.mine.predicates import DSL_FUNCTIONS, library_reference
 from scenariominer.mine.programs import ExampleProgram, load_examples
 from scenariominer.mine.prompts import PROMPT_VERSION
+from scenariominer.mine.query import (
+    LogFailure,
+    ProgramSource,
+    QueryReport,
+    av2_submission,
+    mine_logs,
+)
 from scenariominer.mine.sandbox import (
     ErrorKind,
     ProgramError,
@@ -115,6 +115,5 @@ __all__ = [
     "scenario_and",
     "scenario_not",
     "scenario_or",
-    "store_report",
     "write_av2_submission",
 ]

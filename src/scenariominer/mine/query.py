@@ -1,4 +1,4 @@
-"""Programmatic entry point of scenario mining: description in, matches per log out.
+"""The mining stage: a description and logs in, matches per log out (no store or file I/O).
 
 :func:`mine_logs` does one query:
 
@@ -12,9 +12,8 @@
 4. a :class:`QueryReport` with the matches and the timings the issue asks for (attempts used,
    final status, generation time, execution time, number of logs).
 
-:func:`store_report` writes the matches to the store tables ``mining_results`` and
-``mining_runs`` (replacing earlier rows of the same description in the same logs), and
-:func:`av2_submission` turns a report into the Argoverse 2 submission frames.
+:func:`av2_submission` turns a report into the Argoverse 2 submission frames; storing the
+matches and loading the logs are use cases of :mod:`scenariominer.api.mining`.
 """
 
 from __future__ import annotations
@@ -27,12 +26,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.compute as pc
 
 from scenariominer.config import Config
 from scenariominer.config.mining import MiningConfig
-from scenariominer.data.log import Log, LogFormatError
+from scenariominer.data.log import Log
 from scenariominer.mine.clip_filter import (
     CandidateTracklets,
     ClipEncoder,
@@ -42,13 +39,9 @@ from scenariominer.mine.clip_filter import (
 )
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.export import (
-    MATCHES_TABLE,
-    RUNS_TABLE,
     LogMatches,
     av2_frames,
-    matches_table,
     program_sha256,
-    runs_table,
 )
 from scenariominer.mine.keywords import KeywordSet
 from scenariominer.mine.loop import (
@@ -66,7 +59,6 @@ from scenariominer.mine.sandbox import (
     run_trusted_program,
 )
 from scenariominer.mine.synthesis import ProgramSynthesizer, normalize_description
-from scenariominer.store import ScenarioStore, UnknownTableError
 
 __all__ = [
     "LogFailure",
@@ -75,11 +67,8 @@ __all__ = [
     "av2_submission",
     "bank_program",
     "clip_candidates",
-    "load_logs",
     "make_synthesizer",
     "mine_logs",
-    "raw_logs_for",
-    "store_report",
 ]
 
 
@@ -295,61 +284,6 @@ def mine_logs(
     )
 
 
-def _merge(
-    store: ScenarioStore, name: str, new: Mapping[str, pa.Table], description: str
-) -> dict[str, pa.Table]:
-    """Existing rows of table ``name`` for the logs in ``new``, minus this description's, plus ``new``."""
-    try:
-        old = store.read_table(name, list(new))
-    except UnknownTableError:
-        return dict(new)
-    key = normalize_description(description)
-    out: dict[str, pa.Table] = {}
-    for log_id, table in new.items():
-        rows = old.filter(pc.equal(old.column("log_id"), log_id))
-        if rows.num_rows:
-            same = np.array([normalize_description(d) == key for d in rows.column("description").to_pylist()])
-            rows = rows.filter(pa.array(~same)).drop_columns(["log_id"])
-            out[log_id] = pa.concat_tables([rows, table], promote_options="permissive")
-        else:
-            out[log_id] = table
-    return out
-
-
-def store_report(store: ScenarioStore, report: QueryReport) -> list[str]:
-    """Write a query's matches to ``mining_results`` and ``mining_runs`` of the logs in the store.
-
-    Earlier rows of the same description (normalised) in those logs are replaced; rows of other
-    descriptions are kept. Logs the store does not hold are skipped.
-
-    Returns:
-        The log ids written.
-    """
-    known = set(store.log_ids())
-    matches = [m for m in report.matches if m.log_id in known]
-    runs: dict[str, pa.Table] = {m.log_id: runs_table(m) for m in matches}
-    for failure in report.failures:
-        if failure.log_id in known:
-            empty = LogMatches(
-                failure.log_id, report.description, report.program_sha256,
-                np.zeros(0, dtype=np.int64), np.zeros(0, dtype=str), np.zeros(0, dtype=str),
-                np.zeros((0, 0), dtype=bool), np.zeros((0, 3), dtype=np.int64),
-            )  # fmt: skip
-            runs[failure.log_id] = runs_table(empty, status="failed", error=failure.error.feedback())
-    if not runs:
-        return []
-    cells = {m.log_id: matches_table(m) for m in matches}
-    tables: dict[str, dict[str, pa.Table]] = {}
-    for log_id, table in _merge(store, RUNS_TABLE, runs, report.description).items():
-        tables.setdefault(log_id, {})[RUNS_TABLE] = table
-    if cells:
-        for log_id, table in _merge(store, MATCHES_TABLE, cells, report.description).items():
-            tables.setdefault(log_id, {})[MATCHES_TABLE] = table
-    for log_id, per_log in tables.items():
-        store.write_tables(log_id, per_log)
-    return sorted(tables)
-
-
 def av2_submission(
     report: QueryReport,
     raw_logs: Mapping[str, Log],
@@ -386,80 +320,6 @@ def av2_submission(
         ts = None if timestamps is None or log_id not in timestamps else timestamps[log_id]
         out[(log_id, report.description)] = av2_frames(matches, raw, timestamps_ns=ts)
     return out
-
-
-# ---------------------------------------------------------------------- inputs
-
-
-def load_logs(
-    paths: Sequence[str | Path] = (),
-    store: ScenarioStore | None = None,
-    config: Config | None = None,
-) -> list[Log]:
-    """The preprocessed logs to mine.
-
-    * ``paths`` only: read every log under the paths (any supported format) and preprocess it in
-      memory (nothing is written);
-    * ``paths`` and ``store``: ingest the paths into the store (incremental: unchanged sources
-      are skipped) and load those logs from it, so results can be stored beside them;
-    * ``store`` only: every log in the store.
-
-    Raises:
-        LogFormatError: a path holds no readable log, or a source failed to ingest.
-        ValueError: neither paths nor a store.
-    """
-    from scenariominer import api as top_api
-    from scenariominer.config import load_config
-    from scenariominer.data.preprocess import preprocess
-    from scenariominer.data.sources import discover_sources, reader_for
-
-    cfg = config or load_config()
-    if paths and store is not None:
-        report = top_api.ingest(list(paths), store, cfg)
-        if report.failed:
-            first = report.failed[0]
-            raise LogFormatError(first.key, first.error)
-        ids = [log_id for r in report.sources for log_id in r.log_ids]
-        return [store.load_log(i) for i in dict.fromkeys(ids)]
-    if paths:
-        logs: list[Log] = []
-        for source in discover_sources(list(paths)):
-            reader = reader_for(source)
-            logs.extend(preprocess(log, cfg.preprocess) for log in reader.read(source, cfg))
-        return logs
-    if store is not None:
-        return [store.load_log(i) for i in store.log_ids()]
-    raise ValueError("give log paths, a store, or both")
-
-
-def raw_logs_for(logs: Sequence[Log], config: Config | None = None) -> dict[str, Log]:
-    """The RAW (unsmoothed) version of each log, for the Argoverse 2 export.
-
-    Each log is re-read from its source with the reader of its format (the ground truth uses the
-    raw annotation boxes); a log whose source is gone or no longer yields it is used as it is.
-    """
-    from scenariominer.config import load_config
-
-    cfg = config or load_config()
-    return {log.log_id: _reread(log, cfg) or log for log in logs}
-
-
-def _reread(log: Log, config: Config) -> Log | None:
-    """``log`` read again from ``log.source_path`` by the reader of ``log.dataset``, if possible."""
-    from scenariominer.data.log import LogFormatError
-    from scenariominer.data.sources import default_readers, discover_sources
-
-    readers = [r for r in default_readers() if r.format == log.dataset]
-    if log.source_path is None or not readers or not Path(log.source_path).exists():
-        return None
-    try:
-        for source in discover_sources([log.source_path], readers):
-            for raw in readers[0].read(source, config):
-                if raw.log_id == log.log_id:
-                    return raw
-    except LogFormatError:
-        return None
-    return None
 
 
 def make_synthesizer(config: Config | None = None, *, leave_one_out: bool = True) -> ProgramSynthesizer:

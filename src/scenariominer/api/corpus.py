@@ -1,4 +1,4 @@
-"""Programmatic entry points. The command-line interface is a thin layer over these functions.
+"""Use cases over the corpus as a whole: ``ingest``, ``info``, ``synth`` (and opening a store).
 
 Typical use::
 
@@ -34,6 +34,7 @@ __all__ = [
     "find_sample_av2",
     "info",
     "ingest",
+    "open_existing_store",
     "open_store",
     "synth",
 ]
@@ -47,6 +48,16 @@ def open_store(path: str | Path | None = None, config: Config | None = None) -> 
     """
     config = config or load_config()
     return ScenarioStore.open(resolve_store_path(path, config.store.path), create=True)
+
+
+def open_existing_store(path: str | Path | None = None, config: Config | None = None) -> ScenarioStore:
+    """Open the scenario store at ``path`` (resolved as in :func:`open_store`) without creating it.
+
+    Raises:
+        NotAStoreError: there is no store at the resolved path (read-only commands never create one).
+    """
+    config = config or load_config()
+    return ScenarioStore.open(resolve_store_path(path, config.store.path), create=False)
 
 
 @dataclass(frozen=True)

@@ -1,24 +1,20 @@
-"""``scenariominer llm``: inspect and exercise the configured model backends (thin Typer layer)."""
+"""The ``llm`` command group: inspect and exercise the configured model backends."""
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.console import Console
-from rich.table import Table
 
-from scenariominer.config import ConfigError, load_config
-from scenariominer.llm.check import ChatCheck, EmbeddingCheck, check_chat, check_embeddings
-from scenariominer.llm.errors import LLMError
-from scenariominer.llm.usage import UsageCounter, print_usage
+from scenariominer.cli._common import ConfigOpt, console, load_cfg
+from scenariominer.cli.text import safe
 
-__all__ = ["app"]
+if TYPE_CHECKING:
+    from rich.table import Table
+
+    from scenariominer.llm.check import ChatCheck, EmbeddingCheck
 
 app = typer.Typer(name="llm", help="Language-model and text-embedding backends.", no_args_is_help=True)
-console = Console()
-err_console = Console(stderr=True)
 
 
 @app.callback()
@@ -27,6 +23,8 @@ def _group() -> None:
 
 
 def _key_value_table(title: str) -> Table:
+    from rich.table import Table
+
     table = Table(title=title, show_header=False, title_justify="left")
     table.add_column("key", no_wrap=True)
     table.add_column("value", overflow="fold")
@@ -42,16 +40,16 @@ def render_chat_check(check: ChatCheck) -> None:
         table.add_row("server", check.base_url)
     if check.model_file is not None:
         f = check.model_file
-        table.add_row("model file", str(f.path))
+        table.add_row("model file", safe(f.path))
         table.add_row("size", f"{f.size_bytes:,} bytes ({f.size_bytes / 2**20:,.1f} MiB)")
         table.add_row("sha256", f"{f.sha256} ({'verified against pin' if f.bundled else 'computed'})")
     if check.load_time_s is not None:
         table.add_row("load time", f"{check.load_time_s:.2f} s")
-    table.add_row("answer", str(check.value))
+    table.add_row("answer", safe(check.value))
     table.add_row("attempts", str(check.attempts))
     table.add_row("latency", f"{check.latency_s:.2f} s")
     table.add_row("tokens", f"{check.prompt_tokens} prompt + {check.completion_tokens} generated")
-    console.print(table)
+    console().print(table)
 
 
 def render_embedding_check(check: EmbeddingCheck) -> None:
@@ -66,31 +64,28 @@ def render_embedding_check(check: EmbeddingCheck) -> None:
         "throughput", f"{check.n_texts} texts in {check.seconds:.3f} s ({check.texts_per_s:,.1f}/s)"
     )
     table.add_row("cosine", f"related {check.related_cosine:.3f}, unrelated {check.unrelated_cosine:.3f}")
-    console.print(table)
+    console().print(table)
 
 
 @app.command()
 def check(
-    config: Annotated[Path | None, typer.Option("--config", "-c", help="TOML configuration file.")] = None,
+    config: ConfigOpt = None,
     embeddings: Annotated[
         bool, typer.Option("--embeddings/--no-embeddings", help="Also check the text embedder.")
     ] = False,
     chat: Annotated[bool, typer.Option("--chat/--no-chat", help="Check the chat backend.")] = True,
 ) -> None:
     """Show the active backend and model, verify the model file, and run one tiny structured call."""
-    try:
-        cfg = load_config(config)
-    except ConfigError as exc:
-        err_console.print(f"[red]config error:[/red] {exc}")
-        raise typer.Exit(2) from None
+    from scenariominer import api
+    from scenariominer.llm.usage import UsageCounter, print_usage
+
+    cfg = load_cfg(config)
     usage = UsageCounter()
     try:
-        if chat:
-            render_chat_check(check_chat(cfg, usage))
-        if embeddings:
-            render_embedding_check(check_embeddings(cfg, usage))
-    except LLMError as exc:
-        err_console.print(f"[red]error:[/red] {exc}")
-        raise typer.Exit(1) from None
+        result = api.llm_check(cfg, chat=chat, embeddings=embeddings, usage=usage)
+        if result.chat is not None:
+            render_chat_check(result.chat)
+        if result.embeddings is not None:
+            render_embedding_check(result.embeddings)
     finally:
-        print_usage(usage.report(), console)
+        print_usage(usage.report(), console())

@@ -1,81 +1,49 @@
-"""The ``scenariominer`` command: a thin Typer layer over :mod:`scenariominer.api`.
-
-Each command parses options, calls one API function, and renders the result with Rich.
-No pipeline logic lives here.
-"""
+"""Commands ``ingest``, ``info``, ``synth`` and ``demo``."""
 
 from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.console import Console
-from rich.table import Table
 
-from scenariominer import api
-from scenariominer.config import Config, ConfigError, load_config
-from scenariominer.data.log import LogFormatError
-from scenariominer.progress import RichProgress
-from scenariominer.store import StoreError, StoreInfo
+from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, err_console, load_cfg
+from scenariominer.cli.text import safe
 
-app = typer.Typer(
-    name="scenariominer",
-    help="Turn recorded driving logs into a searchable, explainable scenario database.",
-    no_args_is_help=True,
-    pretty_exceptions_enable=False,
-)
-console = Console()
-err_console = Console(stderr=True)
-
-StoreOpt = Annotated[
-    Path | None,
-    typer.Option(
-        "--store", "-s", help="Store directory (default: $SCENARIOMINER_STORE or the per-user data dir)."
-    ),
-]
-ConfigOpt = Annotated[Path | None, typer.Option("--config", "-c", help="TOML configuration file.")]
-
-
-def _config(path: Path | None) -> Config:
-    try:
-        return load_config(path)
-    except ConfigError as exc:
-        err_console.print(f"[red]config error:[/red] {exc}", soft_wrap=True)
-        raise typer.Exit(2) from None
-
-
-def _fail(exc: Exception) -> typer.Exit:
-    err_console.print(f"[red]error:[/red] {exc}", soft_wrap=True)
-    return typer.Exit(1)
+if TYPE_CHECKING:
+    from scenariominer.api.corpus import IngestReport
+    from scenariominer.store import StoreInfo
 
 
 def render_store_info(info: StoreInfo, title: str = "Scenario store") -> None:
     """Print a store summary: logs, tracks, frames, duration, categories, derived tables."""
-    table = Table(title=f"{title}: {info.root}", show_header=False, title_justify="left")
+    from rich.table import Table
+
+    table = Table(title=f"{title}: {safe(info.root)}", show_header=False, title_justify="left")
     table.add_row("logs", f"{info.n_logs:,}")
     table.add_row("tracks", f"{info.n_tracks:,}")
     table.add_row("frames (track observations)", f"{info.n_frames:,}")
     table.add_row("timestamps", f"{info.n_timestamps:,}")
     table.add_row("duration", f"{info.total_duration_s:,.1f} s ({info.total_duration_s / 3600:.2f} h)")
-    table.add_row("datasets", ", ".join(f"{k}: {v}" for k, v in sorted(info.datasets.items())) or "-")
-    table.add_row("derived tables", ", ".join(info.tables) or "-")
+    datasets = ", ".join(f"{k}: {v}" for k, v in sorted(info.datasets.items()))
+    table.add_row("datasets", safe(datasets) or "-")
+    table.add_row("derived tables", safe(", ".join(info.tables)) or "-")
     table.add_row("size on disk", f"{info.size_bytes / 1e6:,.1f} MB")
-    console.print(table)
+    console().print(table)
     if info.categories:
         cats = Table(title="tracks per category", title_justify="left")
         cats.add_column("category")
         cats.add_column("tracks", justify="right")
         for name, count in sorted(info.categories.items(), key=lambda kv: -kv[1]):
-            cats.add_row(name, f"{count:,}")
-        console.print(cats)
+            cats.add_row(safe(name), f"{count:,}")
+        console().print(cats)
 
 
-def render_ingest_report(report: api.IngestReport) -> None:
+def render_ingest_report(report: IngestReport) -> None:
     """Print what an ingestion run did, failures first."""
     for failed in report.failed:
-        err_console.print(f"[red]failed[/red] {failed.key}: {failed.error}", soft_wrap=True)
+        err_console().print(f"[red]failed[/red] {safe(failed.key)}: {safe(failed.error)}", soft_wrap=True)
     # Repairs are grouped by kind (digits and examples stripped) so a large batch stays readable.
     kinds: dict[str, list[str]] = {}
     for r in report.sources:
@@ -84,11 +52,12 @@ def render_ingest_report(report: api.IngestReport) -> None:
             kind = re.sub(r"\(e\.g\..*\)", "", re.sub(r"\d+", "N", text)).strip()
             kinds.setdefault(kind, []).append(log_id)
     for kind, logs in sorted(kinds.items()):
-        console.print(
-            f"[yellow]repaired[/yellow] {len(set(logs))} log(s): {kind} (e.g. {logs[0]})", soft_wrap=True
+        console().print(
+            f"[yellow]repaired[/yellow] {len(set(logs))} log(s): {safe(kind)} (e.g. {safe(logs[0])})",
+            soft_wrap=True,
         )
     fps = report.n_frames_ingested / report.seconds if report.seconds > 0 else 0.0
-    console.print(
+    console().print(
         f"ingested {report.n_ingested} source(s) ({report.n_logs_ingested} logs, "
         f"{report.n_frames_ingested:,} frames, {fps:,.0f} frames/s), skipped {report.n_skipped} unchanged, "
         f"failed {len(report.failed)} in {report.seconds:.1f} s"
@@ -96,7 +65,6 @@ def render_ingest_report(report: api.IngestReport) -> None:
     render_store_info(report.store)
 
 
-@app.command()
 def ingest(
     paths: Annotated[
         list[Path], typer.Argument(help="AV2 log folders or dataset roots, highD recordings, tabular files.")
@@ -104,38 +72,42 @@ def ingest(
     store: StoreOpt = None,
     config: ConfigOpt = None,
     force: Annotated[bool, typer.Option(help="Re-ingest unchanged sources too.")] = False,
-    json_out: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
+    json_out: JsonOpt = False,
 ) -> None:
     """Ingest driving logs into the scenario store (incremental, atomic per log)."""
-    cfg = _config(config)
+    from scenariominer import api
+    from scenariominer.cli.progress import RichProgress
+
+    cfg = load_cfg(config)
+    st = api.open_store(store, cfg)
+    bar = None if json_out else RichProgress()
     try:
-        st = api.open_store(store, cfg)
-        bar = RichProgress()
-        try:
-            report = api.ingest(paths, st, cfg, force=force, progress=bar)
-        finally:
+        report = api.ingest(paths, st, cfg, force=force, progress=bar)
+    finally:
+        if bar is not None:
             bar.close()
-    except (LogFormatError, StoreError) as exc:
-        raise _fail(exc) from None
     if json_out:
-        console.print_json(report.to_json())
+        console().print_json(report.to_json())
     else:
         render_ingest_report(report)
     if report.failed and not report.n_ingested and not report.n_skipped:
         raise typer.Exit(1)
 
 
-@app.command()
-def info(store: StoreOpt = None, config: ConfigOpt = None) -> None:
-    """Summarise what the scenario store holds."""
-    cfg = _config(config)
-    try:
-        render_store_info(api.info(api.open_store(store, cfg)))
-    except StoreError as exc:
-        raise _fail(exc) from None
+def info(store: StoreOpt = None, config: ConfigOpt = None, json_out: JsonOpt = False) -> None:
+    """Summarise what the scenario store holds (never creates a store)."""
+    import json
+    from dataclasses import asdict
+
+    from scenariominer import api
+
+    summary = api.info(api.open_existing_store(store, load_cfg(config)))
+    if json_out:
+        console().print_json(json.dumps(asdict(summary), default=str))
+    else:
+        render_store_info(summary)
 
 
-@app.command()
 def synth(
     out: Annotated[
         Path, typer.Option("--out", "-o", help="Output folder (one AV2 log folder per scenario).")
@@ -147,26 +119,29 @@ def synth(
     ] = None,
 ) -> None:
     """Generate labelled synthetic scenarios in the Argoverse 2 format plus OUT/labels.csv."""
+    from rich.table import Table
+
+    from scenariominer import api
+    from scenariominer.cli.progress import RichProgress
+
     bar = RichProgress()
     try:
         result = api.synth(out, n, seed=seed, categories=category or None, progress=bar)
-    except ValueError as exc:
-        raise _fail(exc) from None
     finally:
         bar.close()
     counts: dict[str, int] = {}
     for label in result.labels:
         counts[str(label.scenario_category)] = counts.get(str(label.scenario_category), 0) + 1
-    table = Table(title=f"{len(result.log_dirs)} synthetic logs in {result.out_dir}", title_justify="left")
+    title = f"{len(result.log_dirs)} synthetic logs in {safe(result.out_dir)}"
+    table = Table(title=title, title_justify="left")
     table.add_column("category")
     table.add_column("logs", justify="right")
     for name, count in sorted(counts.items()):
         table.add_row(name, str(count))
-    console.print(table)
-    console.print(f"labels: {result.labels_csv}")
+    console().print(table)
+    console().print(f"labels: {safe(result.labels_csv)}")
 
 
-@app.command()
 def demo(
     out: Annotated[Path, typer.Option("--out", "-o", help="Working folder for the demo.")] = Path("demo-out"),
     n: Annotated[int, typer.Option("--n", "-n", min=1, help="Synthetic logs to generate.")] = 24,
@@ -185,79 +160,61 @@ def demo(
     Generates a labelled synthetic set, ingests it with the Argoverse 2 sample log into a fresh
     store, explains braking events with the embedded LLM, searches them both ways, draws one,
     and mines the sample log for "vehicle with a bicycle to its right" scored by the official metric.
+    The demo is a guided tour of the other commands: each step calls one of them.
     """
-    from scenariominer.explain import cli as explain_cli
-    from scenariominer.mine import cli as mine_cli
+    from scenariominer import api
+    from scenariominer.cli import braking, evaluation, mining
+    from scenariominer.schema import ExportFormat
 
-    _config(config)  # fail early on a bad file
+    load_cfg(config)  # fail early on a bad file
     av2_paths = list(av2 or [])
     if not av2_paths:
         sample = api.find_sample_av2()
         if sample is None:
-            err_console.print(
+            err_console().print(
                 "[yellow]no Argoverse 2 sample beside the checkout; using synthetic data only[/yellow]"
             )
         else:
             av2_paths.append(sample)
     out.mkdir(parents=True, exist_ok=True)
     store = out / "store"
-    console.rule("[bold]1. synthetic labelled scenarios")
+    rule = console().rule
+    rule("[bold]1. synthetic labelled scenarios")
     synth(out=out / "synth", n=n, seed=0, category=None)
-    console.rule("[bold]2. ingestion (validate, interpolate, smooth, store)")
+    rule("[bold]2. ingestion (validate, interpolate, smooth, store)")
     ingest(paths=[*av2_paths, out / "synth"], store=store, config=config, force=False, json_out=False)
-    console.rule(f"[bold]3. why braking: tags, key objects, LLM explanations (first {llm_events} events)")
-    explain_cli.analyze(store=store, config=config, limit=llm_events)
-    console.rule("[bold]4. dual-path retrieval")
-    explain_cli.search(query=None, category="cut_in", store=store, config=config, k=5)
-    explain_cli.search(
+    rule(f"[bold]3. why braking: tags, key objects, LLM explanations (first {llm_events} events)")
+    braking.analyze(store=store, config=config, limit=llm_events)
+    rule("[bold]4. dual-path retrieval")
+    braking.search(query=None, category="cut_in", store=store, config=config, k=5)
+    braking.search(
         query="The lead vehicle suddenly brakes, requiring the ego vehicle to brake.",
         store=store,
         config=config,
         k=5,
     )
-    console.rule("[bold]5. program-based mining on the Argoverse 2 sample")
+    rule("[bold]5. program-based mining on the Argoverse 2 sample")
     pred = out / "mining-predictions.pkl"
     for path in av2_paths:
-        mine_cli.mine_command(
+        mining.mine(
             "vehicle with a bicycle to its right",
             logs=[path],
             store=store,
-            export=mine_cli.ExportFormat.AV2,
+            export=ExportFormat.AV2,
             out=pred,
+            config=config,
         )
         gts = sorted(path.glob("scenario_mining_gt_*.pkl")) if path.is_dir() else []
         if gts and pred.is_file():
-            console.rule("[bold]6. official Argoverse 2 scenario-mining metrics")
+            rule("[bold]6. official Argoverse 2 scenario-mining metrics")
             try:
-                mine_cli.mining_command(pred=pred, gt=gts[0], dataset_dir=path, out=out / "mining-eval")
+                evaluation.mining(pred=pred, gt=gts[0], dataset_dir=path, out=out / "mining-eval")
             except typer.Exit:
-                err_console.print("[yellow]evaluation skipped (install the av2eval extra)[/yellow]")
-    console.print(f"\ndemo outputs in {out}: store/, synth/labels.csv, mining-predictions.pkl")
+                err_console().print("[yellow]evaluation skipped (install the av2eval extra)[/yellow]")
+    console().print(f"\ndemo outputs in {safe(out)}: store/, synth/labels.csv, mining-predictions.pkl")
 
 
-def _mount_subcommands() -> None:
-    """Attach the feature CLIs (each a thin module next to its feature)."""
-    from scenariominer.eval import cli as eval_cli
-    from scenariominer.explain import cli as explain_cli
-    from scenariominer.llm import cli as llm_cli
-    from scenariominer.mine import cli as mine_cli
-
-    explain_cli.register(app)
-    mine_cli.register(app)
-    eval_cli.app.command(
-        "mining", help="Score an Argoverse 2 scenario-mining prediction with the official evaluator."
-    )(mine_cli.mining_command)
-    app.add_typer(eval_cli.app, name="eval", help="Evaluate braking explanations and mining against labels.")
-    app.add_typer(llm_cli.app, name="llm", help="Language-model and embedding backends.")
-
-
-_mount_subcommands()
-
-
-def main() -> None:
-    """Console-script entry point."""
-    app()
-
-
-if __name__ == "__main__":  # pragma: no cover
-    main()
+def register(app: typer.Typer) -> None:
+    """Add this module's commands to ``app``."""
+    for command in (ingest, info, synth, demo):
+        app.command(command.__name__)(command)

@@ -1,0 +1,70 @@
+"""One function per use case: what the command line, the HTTP server and a user's script call.
+
+Every function takes typed arguments (a request dataclass where there are several options) and
+returns a typed result; none prints. Progress goes through :class:`scenariominer.progress.Progress`.
+
+==================  ===============================================  ============================
+use case            function                                         module
+==================  ===============================================  ============================
+ingest              :func:`ingest`                                   :mod:`.corpus`
+info                :func:`info` (store opened without creating it)  :mod:`.corpus`
+synth               :func:`synth`                                    :mod:`.corpus`
+analyze             :func:`analyze`                                  :mod:`.braking`
+search              :func:`search`                                   :mod:`.braking`
+show                :func:`show`                                     :mod:`.braking`
+mine                :func:`mine`                                     :mod:`.mining`
+eval braking        :func:`evaluate_braking`                         :mod:`.evaluation`
+eval mining         :func:`evaluate_mining`                          :mod:`.evaluation`
+llm check           :func:`llm_check`                                :mod:`.models`
+==================  ===============================================  ============================
+
+Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_EXPORTS: dict[str, str] = {
+    "IngestReport": "corpus",
+    "SourceResult": "corpus",
+    "find_sample_av2": "corpus",
+    "info": "corpus",
+    "ingest": "corpus",
+    "open_existing_store": "corpus",
+    "open_store": "corpus",
+    "synth": "corpus",
+    "AnalyzeRequest": "braking",
+    "ShowRequest": "braking",
+    "analyze": "braking",
+    "search": "braking",
+    "show": "braking",
+    "MineRequest": "mining",
+    "MineResult": "mining",
+    "load_logs": "mining",
+    "mine": "mining",
+    "raw_logs_for": "mining",
+    "store_report": "mining",
+    "BrakingEvalRequest": "evaluation",
+    "MiningEvalRequest": "evaluation",
+    "evaluate_braking": "evaluation",
+    "evaluate_mining": "evaluation",
+    "LLMCheckResult": "models",
+    "llm_check": "models",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'scenariominer.api' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"scenariominer.api.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -1,0 +1,110 @@
+"""Use cases of the why-braking method (seed 000): ``analyze``, ``search`` and ``show``.
+
+Each function takes a store, a typed request and the configuration, builds the backends the
+configuration names, calls the stage in :mod:`scenariominer.explain` and returns its typed result.
+Nothing here prints.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from scenariominer.config import Config
+from scenariominer.explain.categories import load_categories
+from scenariominer.explain.pipeline import AnalyzeReport, analyze_store
+from scenariominer.explain.search import SearchHit, SearchQuery, search_events
+from scenariominer.explain.show import show_event
+from scenariominer.llm.factory import make_chat_client, make_embedder
+from scenariominer.progress import Progress
+from scenariominer.store import ScenarioStore
+
+__all__ = ["AnalyzeRequest", "ShowRequest", "analyze", "search", "show"]
+
+
+@dataclass(frozen=True)
+class AnalyzeRequest:
+    """Which logs to analyse and how.
+
+    Attributes:
+        log_ids: only these logs (``None``: every log in the store).
+        limit: at most this many fresh LLM calls in this run; 0 runs the rules only (no model is
+            loaded) and leaves the events pending for a later run.
+        force: re-analyse logs whose stored results are current.
+        categories_file: TOML file of scenario categories (overrides ``explain.categories_file``).
+    """
+
+    log_ids: Sequence[str] | None = None
+    limit: int | None = None
+    force: bool = False
+    categories_file: Path | None = None
+
+
+def analyze(
+    store: ScenarioStore, request: AnalyzeRequest, config: Config, progress: Progress | None = None
+) -> AnalyzeReport:
+    """Find braking events, describe, measure and classify them with the LLM, and embed them.
+
+    Raises:
+        ExplainError: an unusable category file.
+        LLMError: the model or the embedder cannot be loaded or answered unusably.
+        StoreError, DataError: the store or a stored log is unreadable.
+    """
+    cfg = config
+    if request.categories_file is not None:
+        explain = dataclasses.replace(cfg.explain, categories_file=str(request.categories_file))
+        cfg = dataclasses.replace(cfg, explain=explain)
+    categories = load_categories(cfg.explain.categories_file)
+    embedder = make_embedder(cfg)
+    client = None if request.limit == 0 else make_chat_client(cfg)
+    try:
+        return analyze_store(
+            store,
+            cfg,
+            client,
+            embedder,
+            log_ids=request.log_ids,
+            progress=progress,
+            force=request.force,
+            limit=request.limit,
+            categories=categories,
+        )
+    finally:
+        if client is not None:
+            client.close()
+
+
+def search(store: ScenarioStore, query: SearchQuery, config: Config) -> list[SearchHit]:
+    """Braking events by category and/or free text (the embedder is loaded for text queries only).
+
+    Raises:
+        ExplainError: the store holds no analysed events.
+        EmbeddingMismatchError: the stored vectors come from another embedding model.
+    """
+    embedder = make_embedder(config) if query.text is not None else None
+    return search_events(store, query, embedder)
+
+
+@dataclass(frozen=True)
+class ShowRequest:
+    """What to draw: a log, one of its events (``None``: the hardest braking) and the PNG path."""
+
+    log_id: str
+    out: Path | None = None
+    event_id: str | None = None
+
+    def out_path(self) -> Path:
+        """The PNG to write: ``out``, or ``<log>_<event>.png`` in the current folder."""
+        return self.out or Path(f"{self.log_id}_{(self.event_id or 'event').replace(':', '_')}.png")
+
+
+def show(store: ScenarioStore, request: ShowRequest, config: Config) -> Path:
+    """Draw a bird's-eye-view PNG of a braking event; returns the file written.
+
+    Raises:
+        ExplainError: no events, or no such event in the log.
+        StoreError: no such log.
+    """
+    return show_event(store, request.log_id, request.out_path(), request.event_id, config.explain)

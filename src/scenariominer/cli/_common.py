@@ -1,0 +1,122 @@
+"""What every command shares: the options declared once, consoles, configuration and error handling.
+
+Errors: a :class:`~scenariominer.errors.ScenarioMinerError` (or an ``OSError`` about a file) is the
+user's to fix: one line on stderr, exit status 2. Anything else is a bug: one line naming it and
+asking for ``--debug``, exit status 1. ``--debug`` (or ``SCENARIOMINER_DEBUG=1``) shows the traceback.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any
+
+import typer
+from typer.core import TyperGroup
+
+from scenariominer.cli.text import safe
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from scenariominer.config import Config
+
+__all__ = [
+    "ConfigOpt",
+    "JsonOpt",
+    "StoreOpt",
+    "SafeGroup",
+    "console",
+    "err_console",
+    "load_cfg",
+    "settings",
+]
+
+StoreOpt = Annotated[
+    Path | None,
+    typer.Option(
+        "--store", "-s", help="Store directory (default: $SCENARIOMINER_STORE or the per-user data dir)."
+    ),
+]
+ConfigOpt = Annotated[Path | None, typer.Option("--config", "-c", help="TOML configuration file.")]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print the result as JSON (for scripts).")]
+
+
+@dataclass
+class Settings:
+    """Global options of the root command (``scenariominer --debug --quiet ...``)."""
+
+    debug: bool = False
+    quiet: bool = False
+    verbose: bool = False
+
+
+settings = Settings(debug=os.environ.get("SCENARIOMINER_DEBUG", "") not in ("", "0"))
+
+_consoles: dict[str, Console] = {}
+
+
+def console() -> Console:
+    """The stdout console (created on first use: importing Rich costs start-up time)."""
+    if "out" not in _consoles:
+        from rich.console import Console
+
+        _consoles["out"] = Console(quiet=settings.quiet)
+    return _consoles["out"]
+
+
+def err_console() -> Console:
+    """The stderr console (errors are printed even with ``--quiet``)."""
+    if "err" not in _consoles:
+        from rich.console import Console
+
+        _consoles["err"] = Console(stderr=True)
+    return _consoles["err"]
+
+
+def load_cfg(path: Path | None) -> Config:
+    """The configuration tree from ``path`` (or the defaults and environment)."""
+    from scenariominer.config import load_config
+
+    return load_config(path)
+
+
+def _report(exc: BaseException) -> int:
+    """Print ``exc`` as one line and return the exit status it deserves."""
+    from scenariominer.errors import ScenarioMinerError
+
+    if isinstance(exc, ScenarioMinerError):
+        label = "config error" if type(exc).__name__ == "ConfigError" else "error"
+        err_console().print(f"[red]{label}:[/red] {safe(exc)}", soft_wrap=True, highlight=False)
+        return 2
+    if isinstance(exc, OSError) and exc.filename is not None:
+        what = exc.strerror or type(exc).__name__
+        err_console().print(f"[red]error:[/red] {safe(exc.filename)}: {safe(what)}", soft_wrap=True)
+        return 2
+    err_console().print(
+        f"[red]internal error:[/red] {safe(type(exc).__name__)}: {safe(exc)} "
+        "(a bug: run again with --debug for the traceback and report it)",
+        soft_wrap=True,
+        highlight=False,
+    )
+    return 1
+
+
+class SafeGroup(TyperGroup):
+    """The root command group: turns exceptions escaping a command into one line and an exit status."""
+
+    def invoke(self, ctx: Any) -> Any:
+        """Run the command; report errors as the module docstring says."""
+        try:
+            return super().invoke(ctx)
+        except (typer.Exit, typer.Abort, SystemExit, KeyboardInterrupt):
+            raise
+        except Exception as exc:
+            import click
+
+            if isinstance(exc, click.exceptions.ClickException | click.exceptions.Exit):
+                raise
+            if settings.debug:
+                raise
+            raise typer.Exit(_report(exc)) from None

@@ -1,0 +1,171 @@
+"""The ``eval`` command group: ``eval braking`` (seed 000's Tables IV-VI) and ``eval mining``."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, load_cfg
+from scenariominer.cli.text import safe
+
+if TYPE_CHECKING:
+    from scenariominer.eval.braking import BrakingEvaluation
+    from scenariominer.eval.mining import MiningEvaluation
+
+app = typer.Typer(name="eval", help="Evaluate pipelines against labelled data.", no_args_is_help=True)
+
+
+def _num(x: float, digits: int = 2) -> str:
+    return "-" if math.isnan(x) else f"{x:.{digits}f}"
+
+
+def render_braking(ev: BrakingEvaluation) -> None:
+    """Print the KeyIdent, known-category and free-text retrieval tables."""
+    from rich.table import Table
+
+    out = console()
+    status = ", ".join(f"{k}: {v}" for k, v in sorted(ev.llm_status.items())) or "-"
+    out.print(
+        f"{ev.n_logs} labelled log(s) evaluated ({ev.n_logs_not_analyzed} not analysed), "
+        f"{ev.n_labels} label(s), {ev.n_events} event(s); LLM answers: {status}"
+    )
+    t4 = Table(title="KeyIdent (Table IV)", title_justify="left")
+    for col in ("category", "labels", "found", "precision", "recall"):
+        t4.add_column(col, justify="left" if col == "category" else "right", no_wrap=True)
+    for r in ev.keyident:
+        overall = r.category == "overall"
+        t4.add_row(
+            safe(r.category),
+            str(r.n_labels),
+            str(r.n_found),
+            _num(ev.keyident_overall.precision) if overall else "-",
+            _num(r.recall),
+            style="bold" if overall else None,
+        )
+    out.print(t4)
+    t5 = Table(title="Known categories, baseline / LLM (Table V)", title_justify="left")
+    for col in ("category", "precision", "recall", "F1", "TP", "FP", "FN"):
+        t5.add_column(col, justify="left" if col == "category" else "right", no_wrap=True)
+    for c in ev.classification:
+        b, m = c.baseline, c.llm
+        t5.add_row(
+            safe(c.category),
+            f"{_num(b.precision)} / {_num(m.precision)}",
+            f"{_num(b.recall)} / {_num(m.recall)}",
+            f"{_num(b.f1)} / {_num(m.f1)}",
+            f"{b.tp} / {m.tp}",
+            f"{b.fp} / {m.fp}",
+            f"{b.fn} / {m.fn}",
+            style="bold" if c.category == "overall" else None,
+        )
+    out.print(t5)
+    if ev.retrieval:
+        k_p, k_r = ev.retrieval[0].k_precision, ev.retrieval[0].k_recall
+        t6 = Table(title=f"Free-text retrieval, {safe(ev.embedding_model)} (Table VI)", title_justify="left")
+        for col in ("category", "query", "relevant", f"P@{k_p}", f"R@{k_r}"):
+            t6.add_column(col, justify="right" if col in ("relevant", f"P@{k_p}", f"R@{k_r}") else "left")
+        for row in ev.retrieval:
+            t6.add_row(
+                safe(row.category),
+                safe(row.query),
+                str(row.n_relevant),
+                _num(row.precision_at_k),
+                _num(row.recall_at_k),
+            )
+        out.print(t6)
+
+
+def _num3(x: float) -> str:
+    return _num(x, 3)
+
+
+def render_evaluation(ev: MiningEvaluation) -> None:
+    """Print the official scores and the paper's F1 scores."""
+    from rich.table import Table
+
+    out = console()
+    table = Table(title=f"scenario mining, {len(ev.pairs)} (log, description) pair(s)", title_justify="left")
+    table.add_column("metric")
+    table.add_column("value", justify="right")
+    table.add_row("HOTA-Temporal", _num3(ev.hota_temporal))
+    table.add_row("HOTA-Track", _num3(ev.hota_track))
+    table.add_row("timestamp balanced accuracy", _num3(ev.timestamp_balanced_accuracy))
+    table.add_row("log balanced accuracy", _num3(ev.log_balanced_accuracy))
+    table.add_row("timestamp F1", _num3(ev.timestamp_f1))
+    table.add_row("log F1", _num3(ev.log_f1))
+    out.print(table)
+    tc, lc = ev.timestamp_counts, ev.log_counts
+    out.print(
+        f"timestamps: TP {tc.tp}, FP {tc.fp}, FN {tc.fn}, TN {tc.tn}; "
+        f"logs: TP {lc.tp}, FP {lc.fp}, FN {lc.fn}, TN {lc.tn}"
+    )
+
+
+@app.command("braking")
+def braking(
+    labels: Annotated[
+        Path, typer.Option("--labels", "-l", help="CSV with log_id, guest_id, scenario_category.")
+    ],
+    store: StoreOpt = None,
+    config: ConfigOpt = None,
+    categories: Annotated[
+        Path | None,
+        typer.Option("--categories", help="TOML file of the categories the store was analysed with."),
+    ] = None,
+    retrieval: Annotated[
+        bool, typer.Option(help="Also evaluate free-text retrieval (embeds the query sentences).")
+    ] = True,
+    complete_only: Annotated[
+        bool, typer.Option("--complete-only", help="Evaluate only logs whose events all have an LLM answer.")
+    ] = False,
+    json_out: JsonOpt = False,
+) -> None:
+    """Evaluate braking events against labels: KeyIdent, baseline vs LLM per category, text retrieval."""
+    import json
+
+    from scenariominer import api
+
+    cfg = load_cfg(config)
+    request = api.BrakingEvalRequest(labels, categories, retrieval, complete_only)
+    ev = api.evaluate_braking(api.open_existing_store(store, cfg), request, cfg)
+    if json_out:
+        console().print_json(json.dumps(ev.to_json_dict()))
+    else:
+        render_braking(ev)
+
+
+@app.command("mining")
+def mining(
+    pred: Annotated[
+        Path, typer.Option("--pred", help="Prediction pickle (scenariominer mine --export av2).")
+    ],
+    gt: Annotated[
+        Path, typer.Option("--gt", help="Ground-truth pickle of the Argoverse 2 scenario-mining task.")
+    ],
+    dataset_dir: Annotated[
+        Path | None,
+        typer.Option(
+            "--dataset-dir", help="Folder with <log_id>/map and poses, for the region-of-interest filter."
+        ),
+    ] = None,
+    max_range_m: Annotated[
+        int, typer.Option(help="Evaluate boxes within this distance of the ego (m).")
+    ] = 50,
+    out: Annotated[
+        Path | None, typer.Option("--out", help="Folder for the evaluator's JSON and plots.")
+    ] = None,
+    json_out: JsonOpt = False,
+) -> None:
+    """Score a scenario-mining prediction with the official Argoverse 2 evaluator (plus F1)."""
+    import json
+
+    from scenariominer import api
+
+    ev = api.evaluate_mining(api.MiningEvalRequest(pred, gt, dataset_dir, max_range_m, out))
+    if json_out:
+        console().print_json(json.dumps(ev.as_dict()))
+    else:
+        render_evaluation(ev)
