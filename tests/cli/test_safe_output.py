@@ -71,7 +71,8 @@ def test_program_error_text_with_markup_is_printed_and_failing_everywhere_exits_
 ) -> None:
     prog = tmp_path / "p.py"
     prog.write_text(
-        "output_scenario(get_objects_of_category(log_dir, category='[/x]\\x1b]8;;http://e\\x1b\\\\'), description)\n",
+        "cat = '[/x]\\x1b]8;;http://e\\x1b\\\\'\n"
+        "output_scenario(get_objects_of_category(log_dir, category=cat), description)\n",
         encoding="utf-8",
     )
     result = runner.invoke(app, ["mine", "x", "--logs", str(av2_log_dir), "--program", str(prog)])

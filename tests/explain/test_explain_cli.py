@@ -11,9 +11,9 @@ from braking_builders import answer
 from typer.testing import CliRunner
 
 from scenariominer import api
-from scenariominer.config import Config
 from scenariominer.api import braking as braking_api
 from scenariominer.cli import app as root_app
+from scenariominer.config import Config
 from scenariominer.llm import ChatClient, ScriptedBackend
 from scenariominer.store import ScenarioStore
 
