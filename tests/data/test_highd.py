@@ -218,10 +218,10 @@ def test_read_after_write_recovers_positions_sizes_velocities_and_categories(
     assert not log.valid[2, :50].any() and log.valid[2, 50:].all()
 
 
-def test_vehicles_driving_left_have_yaw_pi(highway_logs: dict[str, Log]) -> None:
+def test_vehicles_driving_left_have_yaw_minus_pi(highway_logs: dict[str, Log]) -> None:
     log = highway_logs["highd-01-ego4-w0"]
     assert log.track_ids[0] == "4"
-    np.testing.assert_allclose(log.yaw_rad[0], np.pi)
+    np.testing.assert_allclose(log.yaw_rad[0], -np.pi)  # headings are wrapped to [-pi, pi)
     np.testing.assert_allclose(log.vx_mps[0], -25.0)
     np.testing.assert_allclose(log.y_m[0], -LANE_CENTRE_IMAGE_Y_M[2], atol=TOL_M)
 

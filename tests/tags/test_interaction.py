@@ -17,7 +17,7 @@ from tag_scenarios import (
 
 from scenariominer.config.tags import TagConfig
 from scenariominer.data.log import Log
-from scenariominer.tags.geometry import OrientedBoxes, ctrv_predict, yaw_rate_radps
+from scenariominer.geometry import OrientedBoxes, ctrv_predict, yaw_rate_radps
 from scenariominer.tags.interaction import (
     collision_tags,
     distance_tags,

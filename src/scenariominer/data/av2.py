@@ -41,6 +41,7 @@ from scenariominer.config import Config
 from scenariominer.data.categories import EGO_CATEGORY
 from scenariominer.data.log import FloatArray, Log, LogFormatError, build_log
 from scenariominer.data.sources import LogSource
+from scenariominer.geometry import to_local, wrap_angle
 
 ANNOTATIONS_WITH_EGO_FILE = "annotations_with_ego.feather"
 ANNOTATIONS_FILE = "annotations.feather"
@@ -432,13 +433,9 @@ def write_av2_log(log: Log, out_dir: Path) -> Path:
     rows, tcols = np.nonzero(log.valid)
     order = np.lexsort((rows != ego, tcols))
     rows, tcols = rows[order], tcols[order]
-    dx = log.x_m[rows, tcols] - ex[tcols]
-    dy = log.y_m[rows, tcols] - ey[tcols]
-    c, s = np.cos(eyaw[tcols]), np.sin(eyaw[tcols])
-    tx = c * dx + s * dy
-    ty = -s * dx + c * dy
+    tx, ty = to_local(log.x_m[rows, tcols] - ex[tcols], log.y_m[rows, tcols] - ey[tcols], eyaw[tcols])
     tz = np.nan_to_num(log.z_m[rows, tcols]) - ez[tcols]
-    rel_yaw = np.angle(np.exp(1j * (log.yaw_rad[rows, tcols] - eyaw[tcols])))
+    rel_yaw = wrap_angle(log.yaw_rad[rows, tcols] - eyaw[tcols])
     is_ego = rows == ego
     tx[is_ego], ty[is_ego], tz[is_ego], rel_yaw[is_ego] = 0.0, 0.0, 0.0, 0.0  # AV2 puts the ego at the origin
     length = log.length_m[rows, tcols]

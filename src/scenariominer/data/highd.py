@@ -561,7 +561,6 @@ def read_highd_recording(files: HighDFiles) -> HighDRecording:
     sign = np.where(row_dir == HighDDirection.RIGHT, 1.0, -1.0)
     moving = (np.hypot(vx, vy) >= STOPPED_SPEED_MPS) & (vx * sign > 0)
     yaw = np.where(moving, np.arctan2(vy, vx), np.where(sign > 0, 0.0, np.pi))
-    yaw[yaw <= -np.pi] = np.pi  # the Log convention is (-pi, pi]
     height_per_vehicle = np.array(
         [ASSUMED_HEIGHT_M.get(str(c), _FALLBACK_HEIGHT_M) for c in vehicle_categories]
     )

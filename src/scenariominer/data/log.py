@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from scenariominer import errors as _errors
 from scenariominer.data.categories import EGO_CATEGORY, UnknownCategoryError, canonical_category
+from scenariominer.geometry import wrap_angle
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -80,7 +81,8 @@ class Log:
         categories: ``(N,)`` str, Argoverse 2 category names (the ego is ``EGO_VEHICLE``).
         valid: ``(N, T)`` bool, True where the track is observed (or interpolated inside its lifespan).
         x_m, y_m, z_m: ``(N, T)`` box centre in the world frame, metres.
-        yaw_rad: ``(N, T)`` heading, radians, counter-clockwise from world +x, wrapped to (-pi, pi].
+        yaw_rad: ``(N, T)`` heading, radians, counter-clockwise from world +x, wrapped to
+            ``[-pi, pi)`` (:func:`scenariominer.geometry.wrap_angle`).
         length_m, width_m, height_m: ``(N, T)`` box size, metres.
         vx_mps, vy_mps: ``(N, T)`` world-frame velocity, metres per second.
         ax_mps2, ay_mps2: ``(N, T)`` world-frame acceleration, metres per second squared.
@@ -508,13 +510,4 @@ def time_derivative(values: FloatArray, t_s: FloatArray) -> FloatArray:
     out[~finite] = np.nan
     # An isolated observation (no finite neighbour) has no measurable motion.
     out[finite & ~np.isfinite(out)] = 0.0
-    return out
-
-
-def wrap_angle(angle_rad: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Wrap angles to (-pi, pi] (so -pi becomes +pi), elementwise; NaN stays NaN."""
-    a = np.asarray(angle_rad, dtype=np.float64)
-    inside = (a > -np.pi) & (a <= np.pi)
-    out: NDArray[np.float64] = np.where(inside, a, np.angle(np.exp(1j * a)))
-    out[out <= -np.pi] = np.pi
     return out

@@ -20,7 +20,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scenariominer.config import PreprocessConfig
-from scenariominer.data.log import FloatArray, Log, time_derivative, wrap_angle
+from scenariominer.data.log import FloatArray, Log, time_derivative
+from scenariominer.geometry import wrap_angle
 
 _INTERPOLATED = ("x_m", "y_m", "z_m", "length_m", "width_m", "height_m")
 
@@ -57,8 +58,8 @@ def interpolate_gaps(log: Log, max_gap_s: float) -> tuple[Log, int]:
         arr[fill] = arr[rows, p] * (1.0 - w) + arr[rows, q] * w
         changes[name] = arr
     yaw = log.yaw_rad.copy()
-    dyaw = np.angle(np.exp(1j * (yaw[rows, q] - yaw[rows, p])))
-    yaw[fill] = np.angle(np.exp(1j * (yaw[rows, p] + dyaw * w)))
+    dyaw = wrap_angle(yaw[rows, q] - yaw[rows, p])
+    yaw[fill] = wrap_angle(yaw[rows, p] + dyaw * w)
     changes["yaw_rad"] = yaw
     new_valid = valid | fill
     changes["valid"] = new_valid

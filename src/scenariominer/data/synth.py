@@ -59,6 +59,7 @@ from scenariominer.data.av2_map import (
     write_av2_map,
 )
 from scenariominer.data.log import FloatArray, Log, build_log
+from scenariominer.geometry import OrientedBoxes, boxes_overlap, rotate_xy, wrap_angle
 
 BoolArray = NDArray[np.bool_]
 
@@ -163,15 +164,6 @@ class SynthResult:
 # ---------------------------------------------------------------------- geometry helpers
 
 
-def _wrap(angle: FloatArray) -> FloatArray:
-    return np.asarray(np.angle(np.exp(1j * np.asarray(angle))), dtype=np.float64)
-
-
-def _rotate(xy: FloatArray, theta: float) -> FloatArray:
-    c, s = np.cos(theta), np.sin(theta)
-    return np.asarray(np.asarray(xy, dtype=np.float64) @ np.array([[c, s], [-s, c]]), dtype=np.float64)
-
-
 def _arc(center: tuple[float, float], radius: float, a0: float, a1: float, n: int = 24) -> FloatArray:
     ang = np.linspace(a0, a1, n)
     return np.stack([center[0] + radius * np.cos(ang), center[1] + radius * np.sin(ang)], axis=1)
@@ -210,10 +202,10 @@ class _Path:
         over = s - sc
         x = np.interp(sc, self.s, self.xy[:, 0]) + over * np.cos(yaw)
         y = np.interp(sc, self.s, self.xy[:, 1]) + over * np.sin(yaw)
-        return x, y, _wrap(yaw)
+        return x, y, wrap_angle(yaw)
 
     def rotated(self, theta: float) -> _Path:
-        return _Path(xy=_rotate(self.xy, theta), s=self.s, heading=self.heading + theta)
+        return _Path(xy=rotate_xy(self.xy, theta), s=self.s, heading=self.heading + theta)
 
 
 @dataclass(frozen=True, eq=False)
@@ -282,31 +274,6 @@ def _first_run_on(
     return float(s[i0]), float(s[i1])
 
 
-def _boxes_overlap(
-    a: tuple[FloatArray, FloatArray, FloatArray, float, float],
-    b: tuple[FloatArray, FloatArray, FloatArray, float, float],
-    margin_m: float,
-) -> BoolArray:
-    """Test oriented boxes ``(x, y, yaw, length, width)`` for overlap (separating axes), element-wise.
-
-    Boxes count as overlapping when closer than ``margin_m``.
-    """
-    xa, ya, ta, la, wa = a
-    xb, yb, tb, lb, wb = b
-    dx, dy = xb - xa, yb - ya
-    separated = np.zeros(np.broadcast(dx, dy).shape, dtype=bool)
-    for axis_yaw in (ta, ta + np.pi / 2, tb, tb + np.pi / 2):
-        ux, uy = np.cos(axis_yaw), np.sin(axis_yaw)
-        ra = 0.5 * la * np.abs(ux * np.cos(ta) + uy * np.sin(ta)) + 0.5 * wa * np.abs(
-            -ux * np.sin(ta) + uy * np.cos(ta)
-        )
-        rb = 0.5 * lb * np.abs(ux * np.cos(tb) + uy * np.sin(tb)) + 0.5 * wb * np.abs(
-            -ux * np.sin(tb) + uy * np.cos(tb)
-        )
-        separated |= np.abs(ux * dx + uy * dy) > ra + rb + margin_m
-    return ~separated
-
-
 # ---------------------------------------------------------------------- actors
 
 
@@ -343,9 +310,21 @@ def _conflicts(a: _Track, b: _Track, horizon_frames: int, margin_m: float) -> bo
     ok = a.valid[i] & b.valid[j]
     i, j = i[ok], j[ok]
     return bool(
-        _boxes_overlap(
-            (a.x[i], a.y[i], a.yaw[i], a.length, a.width),
-            (b.x[j], b.y[j], b.yaw[j], b.length, b.width),
+        boxes_overlap(
+            OrientedBoxes(
+                a.x[i],
+                a.y[i],
+                a.yaw[i],
+                np.asarray(a.length, dtype=np.float64),
+                np.asarray(a.width, dtype=np.float64),
+            ),
+            OrientedBoxes(
+                b.x[j],
+                b.y[j],
+                b.yaw[j],
+                np.asarray(b.length, dtype=np.float64),
+                np.asarray(b.width, dtype=np.float64),
+            ),
             margin_m,
         ).any()
     )
@@ -457,8 +436,8 @@ class _MapBuilder:
         edges = np.linspace(x0, x1, n + 1)
         ids = []
         for a, b in zip(edges[:-1], edges[1:], strict=True):
-            left = _rotate(np.array([[a, y + LANE_WIDTH_M / 2], [b, y + LANE_WIDTH_M / 2]]), k * np.pi / 2)
-            right = _rotate(np.array([[a, y - LANE_WIDTH_M / 2], [b, y - LANE_WIDTH_M / 2]]), k * np.pi / 2)
+            left = rotate_xy(np.array([[a, y + LANE_WIDTH_M / 2], [b, y + LANE_WIDTH_M / 2]]), k * np.pi / 2)
+            right = rotate_xy(np.array([[a, y - LANE_WIDTH_M / 2], [b, y - LANE_WIDTH_M / 2]]), k * np.pi / 2)
             ids.append(self.add(left, right, intersection=intersection, marks=marks))
         for a_id, b_id in zip(ids[:-1], ids[1:], strict=True):
             self.link(a_id, b_id)
@@ -476,8 +455,8 @@ class _MapBuilder:
             left = _arc((-b, -b), r + LANE_WIDTH_M / 2, np.pi / 2, 0.0, 12)
             right = _arc((-b, -b), r - LANE_WIDTH_M / 2, np.pi / 2, 0.0, 12)
         return self.add(
-            _rotate(left, k * np.pi / 2),
-            _rotate(right, k * np.pi / 2),
+            rotate_xy(left, k * np.pi / 2),
+            rotate_xy(right, k * np.pi / 2),
             intersection=True,
             marks=("NONE", "NONE"),
         )
@@ -545,11 +524,11 @@ def _build_map(layout: MapLayout, tf: Callable[[FloatArray], FloatArray], z_m: f
             mb.neighbours(inbound[k, 1], inbound[k, 2])
             mb.neighbours(outbound[k, 1], outbound[k, 2])
             mb.neighbours([through[k, 1]], [through[k, 2]])
-            edge1 = _rotate(
+            edge1 = rotate_xy(
                 np.array([[-CROSSWALK_FAR_M, -ROAD_HALF_WIDTH_M], [-CROSSWALK_FAR_M, ROAD_HALF_WIDTH_M]]),
                 k * np.pi / 2,
             )
-            edge2 = _rotate(
+            edge2 = rotate_xy(
                 np.array([[-CROSSWALK_NEAR_M, -ROAD_HALF_WIDTH_M], [-CROSSWALK_NEAR_M, ROAD_HALF_WIDTH_M]]),
                 k * np.pi / 2,
             )
@@ -1090,7 +1069,7 @@ def generate_log(category: ScenarioCategory | str, rng: np.random.Generator) -> 
     z0 = rng.uniform(-30.0, 30.0)
 
     def tf(xy: FloatArray) -> FloatArray:
-        return np.asarray(_rotate(np.asarray(xy, dtype=np.float64), theta) + offset, dtype=np.float64)
+        return np.asarray(rotate_xy(np.asarray(xy, dtype=np.float64), theta) + offset, dtype=np.float64)
 
     sigma_pos = rng.uniform(0.05, 0.1)
     sigma_yaw = rng.uniform(0.01, 0.03)
@@ -1128,7 +1107,7 @@ def generate_log(category: ScenarioCategory | str, rng: np.random.Generator) -> 
         cols["x_m"].append(xy[:, 0])
         cols["y_m"].append(xy[:, 1])
         cols["z_m"].append(z0 + tr.height / 2 + rng.normal(0.0, pos_sigma / 4, size=k.size))
-        cols["yaw_rad"].append(_wrap(tr.yaw[k] + theta + rng.normal(0.0, yaw_sigma, size=k.size)))
+        cols["yaw_rad"].append(wrap_angle(tr.yaw[k] + theta + rng.normal(0.0, yaw_sigma, size=k.size)))
         cols["length_m"].append(np.full(k.size, tr.length))
         cols["width_m"].append(np.full(k.size, tr.width))
         cols["height_m"].append(np.full(k.size, tr.height))

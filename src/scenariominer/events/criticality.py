@@ -30,8 +30,8 @@ from numpy.typing import NDArray
 
 from scenariominer.config.explain import ExplainConfig
 from scenariominer.data.log import Log
+from scenariominer.geometry import OrientedBoxes, boxes_overlap
 from scenariominer.tags.engine import LogTags
-from scenariominer.tags.geometry import OrientedBoxes, boxes_overlap
 from scenariominer.tags.vocab import HeadingTag, PositionTag, code_of
 
 __all__ = [

@@ -22,8 +22,8 @@ from scenariominer.config.explain import ExplainConfig
 from scenariominer.data.log import Log, LogFormatError
 from scenariominer.explain.records import EventRecord, records_from_table
 from scenariominer.explain.search import load_events
+from scenariominer.geometry import OrientedBoxes
 from scenariominer.store import ScenarioStore
-from scenariominer.tags.geometry import OrientedBoxes
 
 if TYPE_CHECKING:
     from scenariominer.data.av2_map import Av2Map

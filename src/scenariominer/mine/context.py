@@ -31,6 +31,7 @@ from scenariominer.config.mining import MiningConfig
 from scenariominer.data.av2_map import Av2Map, read_av2_map
 from scenariominer.data.categories import expand_categories
 from scenariominer.data.log import BoolArray, FloatArray, Log
+from scenariominer.geometry import OrientedBoxes, box_distance_m, to_local, wrap_angle, yaw_rate_radps
 
 __all__ = [
     "AGENT_CATEGORIES",
@@ -38,8 +39,6 @@ __all__ = [
     "LogContext",
     "MapIndex",
     "MapRequiredError",
-    "box_distance",
-    "wrap_angle",
 ]
 
 IntArray = NDArray[np.int64]
@@ -105,96 +104,6 @@ class MapRequiredError(_errors.MiningError, RuntimeError):
             f"predicate {predicate}() needs an HD map; log {log_id} has none. Rewrite the program with "
             f"map-free predicates such as {', '.join(MAP_FREE_PREDICATES)}."
         )
-
-
-def wrap_angle(angle_rad: NDArray[np.float64] | float) -> NDArray[np.float64]:
-    """Wrap angles to ``[-pi, pi)`` (element-wise)."""
-    return np.asarray((np.asarray(angle_rad, dtype=np.float64) + np.pi) % (2 * np.pi) - np.pi)
-
-
-def _wrapped_rate(angle_rad: FloatArray, t_s: FloatArray) -> FloatArray:
-    """Time derivative along axis 1 of an ``(N, T)`` angle array, wrapping differences to ±pi.
-
-    Central differences between valid neighbours, one-sided at span ends; NaN cells stay NaN and
-    an isolated observation has rate 0.
-    """
-    n, t = angle_rad.shape
-    out = np.full((n, t), np.nan)
-    finite = np.isfinite(angle_rad)
-    if t < 2:
-        out[finite] = 0.0
-        return out
-    fwd = np.full((n, t), np.nan)
-    fwd[:, :-1] = wrap_angle(np.diff(angle_rad, axis=1)) / np.diff(t_s)
-    bwd = np.full((n, t), np.nan)
-    bwd[:, 1:] = fwd[:, :-1]
-    central = np.full((n, t), np.nan)
-    if t >= 3:
-        central[:, 1:-1] = wrap_angle(angle_rad[:, 2:] - angle_rad[:, :-2]) / (t_s[2:] - t_s[:-2])
-    out = np.where(np.isfinite(central), central, np.where(np.isfinite(fwd), fwd, bwd))
-    out[~finite] = np.nan
-    out[finite & ~np.isfinite(out)] = 0.0
-    return out
-
-
-def _point_to_box_distance(
-    px: FloatArray,
-    py: FloatArray,
-    cx: FloatArray,
-    cy: FloatArray,
-    c: FloatArray,
-    s: FloatArray,
-    half_l: FloatArray,
-    half_w: FloatArray,
-) -> FloatArray:
-    """Distance (m) from points to oriented rectangles (0 inside); all arguments broadcast."""
-    dx, dy = px - cx, py - cy
-    lx = np.abs(c * dx + s * dy) - half_l
-    ly = np.abs(-s * dx + c * dy) - half_w
-    return np.asarray(np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0)))
-
-
-def box_distance(
-    a: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
-    b: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
-) -> FloatArray:
-    """Minimum distance (m) between the footprints of oriented boxes, 0 where they overlap.
-
-    Args:
-        a: ``(cx_m, cy_m, yaw_rad, length_m, width_m)`` of the first boxes, arrays that broadcast
-            against each other and against ``b``.
-        b: the same for the second boxes.
-
-    Returns:
-        The broadcast shape of the inputs; NaN where any input is NaN.
-
-    Two rectangles overlap unless one of the four edge normals separates them (separating-axis
-    theorem); for disjoint convex polygons the minimum distance is attained at a corner of one
-    of them, so it is the smallest corner-to-rectangle distance of the eight corners.
-    """
-    acx, acy, ayaw, al, aw = a
-    bcx, bcy, byaw, bl, bw = b
-    ac, as_ = np.cos(ayaw), np.sin(ayaw)
-    bc, bs = np.cos(byaw), np.sin(byaw)
-    ahl, ahw, bhl, bhw = al / 2, aw / 2, bl / 2, bw / 2
-    dx, dy = bcx - acx, bcy - acy
-    separated = np.zeros(np.broadcast_shapes(np.shape(dx), np.shape(bc)), dtype=bool)
-    for nx, ny in ((ac, as_), (-as_, ac), (bc, bs), (-bs, bc)):
-        ra = ahl * np.abs(ac * nx + as_ * ny) + ahw * np.abs(-as_ * nx + ac * ny)
-        rb = bhl * np.abs(bc * nx + bs * ny) + bhw * np.abs(-bs * nx + bc * ny)
-        separated |= np.abs(dx * nx + dy * ny) > ra + rb
-    best = np.full(separated.shape, np.inf)
-    for sl, sw in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
-        # corners of a measured against box b, and corners of b against box a
-        pax = acx + sl * ahl * ac - sw * ahw * as_
-        pay = acy + sl * ahl * as_ + sw * ahw * ac
-        best = np.minimum(best, _point_to_box_distance(pax, pay, bcx, bcy, bc, bs, bhl, bhw))
-        pbx = bcx + sl * bhl * bc - sw * bhw * bs
-        pby = bcy + sl * bhl * bs + sw * bhw * bc
-        best = np.minimum(best, _point_to_box_distance(pbx, pby, acx, acy, ac, as_, ahl, ahw))
-    out = np.where(separated, best, 0.0)
-    nan = ~np.isfinite(dx + dy + ayaw + byaw + al + aw + bl + bw)
-    return np.asarray(np.where(nan, np.nan, out))
 
 
 class MapIndex:
@@ -479,16 +388,6 @@ class LogContext:
         return np.where(self.valid, self.log.yaw_rad, np.nan)
 
     @cached_property
-    def cos_yaw(self) -> FloatArray:
-        """``(N, T)`` cosine of the heading."""
-        return np.cos(self.yaw_rad)
-
-    @cached_property
-    def sin_yaw(self) -> FloatArray:
-        """``(N, T)`` sine of the heading."""
-        return np.sin(self.yaw_rad)
-
-    @cached_property
     def length_m(self) -> FloatArray:
         """``(N, T)`` box length, metres."""
         return np.where(self.valid, self.log.length_m, np.nan)
@@ -524,18 +423,18 @@ class LogContext:
     def v_body_mps(self) -> tuple[FloatArray, FloatArray]:
         """``(N, T)`` velocity in the box frame: (forward, leftward), m/s."""
         vx, vy = self.log.vx_mps, self.log.vy_mps
-        return self.cos_yaw * vx + self.sin_yaw * vy, -self.sin_yaw * vx + self.cos_yaw * vy
+        return to_local(vx, vy, self.yaw_rad)
 
     @cached_property
     def a_body_mps2(self) -> tuple[FloatArray, FloatArray]:
         """``(N, T)`` acceleration in the box frame: (forward, leftward), m/s²."""
         ax, ay = self.log.ax_mps2, self.log.ay_mps2
-        return self.cos_yaw * ax + self.sin_yaw * ay, -self.sin_yaw * ax + self.cos_yaw * ay
+        return to_local(ax, ay, self.yaw_rad)
 
     @cached_property
     def yaw_rate_deg_s(self) -> FloatArray:
         """``(N, T)`` heading rate, degrees per second, counter-clockwise (left) positive."""
-        return np.degrees(_wrapped_rate(self.yaw_rad, self.t_s))
+        return np.degrees(yaw_rate_radps(self.yaw_rad, self.t_s))
 
     @cached_property
     def travel_direction_rad(self) -> FloatArray:
@@ -604,8 +503,7 @@ class LogContext:
             x, y = self.center_xy_m
             dx = x[cols][None, :, :] - x[rows][:, None, :]
             dy = y[cols][None, :, :] - y[rows][:, None, :]
-            c, s = self.cos_yaw[rows][:, None, :], self.sin_yaw[rows][:, None, :]
-            return c * dx + s * dy, -s * dx + c * dy
+            return to_local(dx, dy, self.yaw_rad[rows][:, None, :])
 
         result: tuple[FloatArray, FloatArray] = self._cached("relpos", rows, cols, compute)
         return result
@@ -623,8 +521,7 @@ class LogContext:
         def compute() -> tuple[FloatArray, FloatArray]:
             vx = self.log.vx_mps[cols][None, :, :]
             vy = self.log.vy_mps[cols][None, :, :]
-            c, s = self.cos_yaw[rows][:, None, :], self.sin_yaw[rows][:, None, :]
-            return c * vx + s * vy, -s * vx + c * vy
+            return to_local(vx, vy, self.yaw_rad[rows][:, None, :])
 
         result: tuple[FloatArray, FloatArray] = self._cached("relvel", rows, cols, compute)
         return result
@@ -639,11 +536,12 @@ class LogContext:
             t = self.n_timestamps
             out = np.empty((rows.size, cols.size, t))
             step = max(1, _CHUNK_CELLS // max(1, cols.size * t))
-            b = tuple(a[cols][None, :, :] for a in (x, y, self.yaw_rad, self.length_m, self.width_m))
+            fields = (x, y, self.yaw_rad, self.length_m, self.width_m)
+            b = OrientedBoxes(*(f[cols][None, :, :] for f in fields))
             for start in range(0, rows.size, step):
                 r = rows[start : start + step]
-                a = tuple(arr[r][:, None, :] for arr in (x, y, self.yaw_rad, self.length_m, self.width_m))
-                out[start : start + step] = box_distance(a, b)  # type: ignore[arg-type]
+                a = OrientedBoxes(*(f[r][:, None, :] for f in fields))
+                out[start : start + step] = box_distance_m(a, b)
             return out
 
         result: FloatArray = self._cached("boxdist", rows, cols, compute)
@@ -653,13 +551,8 @@ class LogContext:
     def box_polygons(self) -> NDArray[np.object_]:
         """``(N, T)`` shapely footprints of every box (``None`` where the track is absent)."""
         x, y = self.center_xy_m
-        c, s = self.cos_yaw, self.sin_yaw
-        hl, hw = self.length_m / 2, self.width_m / 2
-        corners = [
-            np.stack([x + sl * hl * c - sw * hw * s, y + sl * hl * s + sw * hw * c], -1)
-            for sl, sw in ((1, 1), (-1, 1), (-1, -1), (1, -1), (1, 1))
-        ]
-        coords = np.stack(corners, axis=-2)  # (N, T, 5, 2)
+        corners = OrientedBoxes(x, y, self.yaw_rad, self.length_m, self.width_m).corners()  # (N, T, 4, 2)
+        coords = np.concatenate([corners, corners[..., :1, :]], axis=-2)  # closed ring (N, T, 5, 2)
         out = np.full(x.shape, None, dtype=object)
         ok = np.isfinite(coords).all(axis=(-1, -2))
         if ok.any():

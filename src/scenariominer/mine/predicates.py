@@ -41,7 +41,8 @@ import numpy as np
 
 from scenariominer import errors as _errors
 from scenariominer.data.log import BoolArray, FloatArray, time_derivative
-from scenariominer.mine.context import IntArray, LogContext, wrap_angle
+from scenariominer.geometry import wrap_angle
+from scenariominer.mine.context import IntArray, LogContext
 from scenariominer.mine.scenario import (
     Scenario,
     reverse_relationship,

@@ -20,8 +20,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scenariominer.config.tags import TagConfig
-from scenariominer.data.log import Log
-from scenariominer.tags.geometry import FloatArray, yaw_rate_radps
+from scenariominer.data.log import FloatArray, Log
+from scenariominer.geometry import yaw_rate_radps
 from scenariominer.tags.vocab import ABSENT, LatitudeTag, LongitudeTag, code_of
 
 __all__ = [

@@ -27,10 +27,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scenariominer.config.tags import TagConfig
-from scenariominer.data.log import Log
-from scenariominer.tags.geometry import (
-    BoolArray,
-    FloatArray,
+from scenariominer.data.log import BoolArray, FloatArray, Log
+from scenariominer.geometry import (
     OrientedBoxes,
     box_distance_m,
     boxes_overlap,

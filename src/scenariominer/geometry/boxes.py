@@ -1,4 +1,4 @@
-"""Vectorised oriented-box geometry: corners, overlap (separating axes), distance, CTRV prediction.
+"""Oriented boxes: corners, overlap (separating axes), point-to-box and box-to-box distance.
 
 Every function broadcasts over arbitrary leading shapes, so one call tests, e.g., all
 ``objects × timestamps × horizon steps`` box pairs at once. Boxes are 2-D rectangles in the world
@@ -14,23 +14,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-FloatArray = NDArray[np.float64]
+from scenariominer.geometry.angles import FloatArray
+
 BoolArray = NDArray[np.bool_]
 
-__all__ = [
-    "OrientedBoxes",
-    "box_distance_m",
-    "boxes_overlap",
-    "ctrv_predict",
-    "point_box_distance_m",
-    "wrap_angle",
-    "yaw_rate_radps",
-]
-
-
-def wrap_angle(angle_rad: FloatArray) -> FloatArray:
-    """Wrap angles to ``[-pi, pi)``. Any shape."""
-    return np.asarray((np.asarray(angle_rad) + np.pi) % (2.0 * np.pi) - np.pi, dtype=np.float64)
+__all__ = ["OrientedBoxes", "box_distance_m", "boxes_overlap", "point_box_distance_m"]
 
 
 @dataclass(frozen=True)
@@ -79,7 +67,7 @@ class OrientedBoxes:
         return np.stack([cx + cc * lx - ss * wy, cy + ss * lx + cc * wy], axis=-1)
 
 
-def boxes_overlap(a: OrientedBoxes, b: OrientedBoxes) -> BoolArray:
+def boxes_overlap(a: OrientedBoxes, b: OrientedBoxes, margin_m: float = 0.0) -> BoolArray:
     """Whether oriented rectangles intersect (touching counts), by the separating-axis theorem.
 
     For two rectangles the candidate separating axes are the two edge normals of each; along an
@@ -89,6 +77,8 @@ def boxes_overlap(a: OrientedBoxes, b: OrientedBoxes) -> BoolArray:
     Args:
         a: first boxes; their fields broadcast with ``b``'s to a common batch shape ``S``.
         b: second boxes.
+        margin_m: boxes also count as overlapping when no separating axis separates them by more
+            than this (metres; 0: touching counts).
 
     Returns:
         ``S`` bool; NaN inputs give False.
@@ -100,10 +90,10 @@ def boxes_overlap(a: OrientedBoxes, b: OrientedBoxes) -> BoolArray:
     s = np.abs(sa * cb - ca * sb)  # |sin(yaw_b - yaw_a)|
     hla, hwa, hlb, hwb = 0.5 * a.length_m, 0.5 * a.width_m, 0.5 * b.length_m, 0.5 * b.width_m
     with np.errstate(invalid="ignore"):
-        ok = np.abs(dx * ca + dy * sa) <= hla + hlb * c + hwb * s
-        ok &= np.abs(-dx * sa + dy * ca) <= hwa + hlb * s + hwb * c
-        ok &= np.abs(dx * cb + dy * sb) <= hlb + hla * c + hwa * s
-        ok &= np.abs(-dx * sb + dy * cb) <= hwb + hla * s + hwa * c
+        ok = np.abs(dx * ca + dy * sa) <= hla + hlb * c + hwb * s + margin_m
+        ok &= np.abs(-dx * sa + dy * ca) <= hwa + hlb * s + hwb * c + margin_m
+        ok &= np.abs(dx * cb + dy * sb) <= hlb + hla * c + hwa * s + margin_m
+        ok &= np.abs(-dx * sb + dy * cb) <= hwb + hla * s + hwa * c + margin_m
     return np.asarray(ok, dtype=bool)
 
 
@@ -146,78 +136,3 @@ def _fields(box: OrientedBoxes) -> tuple[FloatArray, ...]:
 
 def _expand_last(box: OrientedBoxes) -> OrientedBoxes:
     return OrientedBoxes(*(np.asarray(f)[..., None] for f in _fields(box)))
-
-
-def ctrv_predict(
-    x_m: FloatArray,
-    y_m: FloatArray,
-    yaw_rad: FloatArray,
-    vx_mps: FloatArray,
-    vy_mps: FloatArray,
-    yaw_rate_radps: FloatArray,
-    tau_s: FloatArray,
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Constant Turn Rate and Velocity prediction of box centre and heading.
-
-    The velocity vector keeps its magnitude and rotates at the yaw rate, so the path is a circular
-    arc (a straight line for zero yaw rate); the box heading rotates at the same rate. Using the
-    world velocity vector rather than ``speed × heading`` keeps reversing vehicles and objects whose
-    heading is not their direction of travel (pedestrians) on their observed course. With
-    ``θ = ω τ``::
-
-        p(τ) = p + (sin θ / ω) v + ((1 - cos θ) / ω) J v,   J = rotation by +90°
-
-    with the series expansions ``sin θ / ω ≈ τ (1 - θ²/6)`` and ``(1 - cos θ) / ω ≈ τ θ / 2`` for
-    ``|θ| < 1e-4``, so that ``ω → 0`` is exact to machine precision.
-
-    Args:
-        x_m: current centre x, metres (all state arrays broadcast together).
-        y_m: current centre y, metres.
-        yaw_rad: current box heading, radians.
-        vx_mps: world-frame velocity x, m/s.
-        vy_mps: world-frame velocity y, m/s.
-        yaw_rate_radps: yaw rate, rad/s (counter-clockwise positive).
-        tau_s: prediction times (seconds), broadcastable against the state (typically a trailing axis).
-
-    Returns:
-        Predicted ``(x_m, y_m, yaw_rad)``, each of the broadcast shape.
-    """
-    theta = yaw_rate_radps * tau_s
-    small = np.abs(theta) < 1e-4
-    safe_rate = np.where(small, 1.0, yaw_rate_radps)
-    sin_term = np.where(small, tau_s * (1.0 - theta * theta / 6.0), np.sin(theta) / safe_rate)  # sin(ωτ)/ω
-    cos_term = np.where(small, 0.5 * tau_s * theta, (1.0 - np.cos(theta)) / safe_rate)  # (1 - cos ωτ)/ω
-    x = x_m + sin_term * vx_mps - cos_term * vy_mps
-    y = y_m + sin_term * vy_mps + cos_term * vx_mps
-    return (
-        np.asarray(x, dtype=np.float64),
-        np.asarray(y, dtype=np.float64),
-        np.asarray(yaw_rad + theta, dtype=np.float64),
-    )
-
-
-def yaw_rate_radps(yaw_rad: FloatArray, t_s: FloatArray) -> FloatArray:
-    """Yaw rate along axis 1 of ``yaw_rad`` ``(N, T)`` from wrapped finite differences, rad/s.
-
-    Central differences between valid neighbours, one-sided at the ends of an observed span,
-    0 for an isolated observation, NaN where ``yaw_rad`` is NaN. Differences are wrapped, so a
-    heading crossing ±pi gives the true small rate.
-    """
-    n, t = yaw_rad.shape
-    out = np.full((n, t), np.nan)
-    finite = np.isfinite(yaw_rad)
-    if t < 2:
-        out[finite] = 0.0
-        return out
-    with np.errstate(invalid="ignore"):
-        fwd = np.full((n, t), np.nan)
-        fwd[:, :-1] = wrap_angle(np.diff(yaw_rad, axis=1)) / np.diff(t_s)
-        bwd = np.full((n, t), np.nan)
-        bwd[:, 1:] = fwd[:, :-1]
-        central = np.full((n, t), np.nan)
-        if t >= 3:
-            central[:, 1:-1] = wrap_angle(yaw_rad[:, 2:] - yaw_rad[:, :-2]) / (t_s[2:] - t_s[:-2])
-    out = np.where(np.isfinite(central), central, np.where(np.isfinite(fwd), fwd, bwd))
-    out[~finite] = np.nan
-    out[finite & ~np.isfinite(out)] = 0.0
-    return out

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 import shapely
 
-from scenariominer.tags.geometry import (
+from scenariominer.geometry import (
     OrientedBoxes,
     box_distance_m,
     boxes_overlap,
@@ -124,3 +126,16 @@ def test_yaw_rate_is_nan_where_absent_and_zero_for_isolated_frames() -> None:
     rate = yaw_rate_radps(yaw, t)
     assert np.isnan(rate[0, [1, 3, 4]]).all()
     np.testing.assert_allclose(rate[0, [0, 2]], 0.0)
+
+
+def test_box_distance_of_parallel_overlapping_and_rotated_boxes() -> None:
+    def box(x: float, y: float, yaw: float, length: float, width: float) -> tuple[np.ndarray, ...]:
+        return OrientedBoxes(*(np.array([v], dtype=float) for v in (x, y, yaw, length, width)))
+
+    # two 4 x 2 boxes side by side, centres 3 m apart: gap 1 m
+    assert box_distance_m(box(0, 0, 0, 4, 2), box(0, 3, 0, 4, 2))[0] == pytest.approx(1.0)
+    assert box_distance_m(box(0, 0, 0, 4, 2), box(1, 1, 0, 4, 2))[0] == 0.0
+    # a 2 x 2 box rotated 45 deg, its corner pointing at the first box's front face 1 m away
+    corner = 1 + math.sqrt(2)
+    assert box_distance_m(box(0, 0, 0, 4, 2), box(2 + corner, 0, math.pi / 4, 2, 2))[0] == pytest.approx(1.0)
+    assert np.isnan(box_distance_m(box(0, 0, 0, 4, 2), box(np.nan, 0, 0, 4, 2))[0])
