@@ -34,6 +34,7 @@ __all__ = [
     "EvaluationError",
     "ExplainError",
     "LLMError",
+    "MissingExtraError",
     "MiningError",
     "ScenarioMinerError",
     "StoreError",
@@ -83,3 +84,15 @@ class EmbeddingMismatchError(ScenarioMinerError, ValueError):
     Shared by the embedding backends (llm/) and the vector tables and index (store/, retrieval/), so
     one ``except`` clause catches a mismatch wherever it is detected.
     """
+
+
+class MissingExtraError(ScenarioMinerError, ImportError):
+    """An optional dependency is not installed; the message gives the command that installs it."""
+
+    def __init__(self, module: str, extra: str, purpose: str) -> None:
+        self.module = module
+        self.extra = extra
+        super().__init__(
+            f"{purpose} needs the Python package {module!r}, which is not installed: "
+            f"pip install 'scenariominer[{extra}]'"
+        )

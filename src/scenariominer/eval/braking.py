@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pyarrow as pa
 
 from scenariominer import errors as _errors
@@ -34,8 +33,9 @@ from scenariominer.explain.categories import NOT_RELEVANT, CategorySet
 from scenariominer.explain.records import EMBEDDINGS_TABLE, RUNS_TABLE
 from scenariominer.explain.search import NoEventsError, load_events
 from scenariominer.llm.embeddings import Embedder
+from scenariominer.retrieval import rank
 from scenariominer.store import ScenarioStore, UnknownTableError
-from scenariominer.store.vectors import load_embeddings, normalize_rows
+from scenariominer.store.vectors import load_embeddings
 
 __all__ = [
     "OOD_QUERIES",
@@ -386,7 +386,7 @@ def _ranked_pairs(
     keys, matrix = load_embeddings(store, EMBEDDINGS_TABLE, q.model, dim=q.dim, log_ids=log_ids)
     if matrix.shape[0] == 0:
         return [], q.model
-    scores = matrix @ normalize_rows(q.vectors, ["query"])[0]
+    ranked = rank(matrix, q.vectors[0])
     pair_of_event = {
         str(e): (str(lg), str(g))
         for e, lg, g in zip(
@@ -397,15 +397,14 @@ def _ranked_pairs(
         )
     }
     item_ids = keys.column("item_id").to_pylist()
-    order = np.lexsort((np.arange(scores.size), -scores))
-    ranked: list[Pair] = []
+    pairs: list[Pair] = []
     seen: set[Pair] = set()
-    for i in order:
-        pair = pair_of_event.get(str(item_ids[i]))
+    for hit in ranked:
+        pair = pair_of_event.get(str(item_ids[int(hit.id)]))
         if pair is not None and pair not in seen:
             seen.add(pair)
-            ranked.append(pair)
-    return ranked, q.model
+            pairs.append(pair)
+    return pairs, q.model
 
 
 def evaluate_braking(

@@ -29,9 +29,10 @@ from scenariominer.explain.records import (
     records_from_table,
 )
 from scenariominer.llm.embeddings import Embedder
+from scenariominer.retrieval import rank
 from scenariominer.schema import SortKey
 from scenariominer.store import ScenarioStore, UnknownTableError
-from scenariominer.store.vectors import load_embeddings, normalize_rows
+from scenariominer.store.vectors import load_embeddings
 
 __all__ = [
     "NoEventsError",
@@ -182,9 +183,8 @@ def search_events(
             raise ValueError("a text query needs an embedder")
         q = embedder.embed([query.text])
         keys, matrix = load_embeddings(store, EMBEDDINGS_TABLE, q.model, dim=q.dim, log_ids=log_ids)
-        unit_q = normalize_rows(q.vectors, ["query"])[0]
-        sims = matrix @ unit_q if matrix.shape[0] else np.zeros(0, dtype=np.float32)
-        by_event = dict(zip(keys.column("item_id").to_pylist(), sims.tolist(), strict=True))
+        ranked = rank(matrix, q.vectors[0], keys.column("item_id").to_pylist())
+        by_event = {h.id: h.score for h in ranked}
         scores = np.array([by_event.get(r.event_id, np.nan) for r in records], dtype=np.float64)
         keep = np.isfinite(scores)
         records = [r for r, ok in zip(records, keep, strict=True) if ok]

@@ -26,6 +26,7 @@ from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder, Embeddings
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
+from scenariominer.retrieval import rank
 
 __all__ = [
     "ExampleSelector",
@@ -131,12 +132,11 @@ class ExampleSelector:
         """
         if k <= 0 or not self.examples:
             return []
-        sims = self.similarities(description)
+        query = self.embedder.embed([description])
         key = normalize_description(description)
-        order = np.argsort(-sims, kind="stable")
         chosen: list[ExampleProgram] = []
-        for i in order:
-            ex = self.examples[int(i)]
+        for hit in rank(self._bank_vectors().vectors, query.vectors[0]):
+            ex = self.examples[int(hit.id)]
             if leave_one_out and normalize_description(ex.description) == key:
                 continue
             chosen.append(ex)
