@@ -55,3 +55,19 @@ def test_bad_config_file_is_reported(tmp_path: Path) -> None:
     result = runner.invoke(app, ["info", "--config", str(cfg), "--store", str(tmp_path / "s")])
     assert result.exit_code == 2
     assert "unknown key" in result.output
+
+
+def test_store_check_and_vacuum(tmp_path: Path) -> None:
+    store = ScenarioStore.open(tmp_path / "s", create=True)
+    orphan = store.root / "logs" / "X" / "v1"
+    orphan.mkdir(parents=True)
+    (orphan / "tracks.parquet").write_bytes(b"partial")
+    result = runner.invoke(app, ["store", "check", "--store", str(store.root), "--json"])
+    assert result.exit_code == 0, result.output
+    report = json.loads(result.output)
+    assert report["ok"] and report["orphaned_files"] == ["logs/X/v1"]
+    result = runner.invoke(app, ["store", "vacuum", "--store", str(store.root)])
+    assert result.exit_code == 0 and "removed 1" in result.output
+    assert not orphan.exists()
+    result = runner.invoke(app, ["store", "check", "--store", str(tmp_path / "none")])
+    assert result.exit_code == 2

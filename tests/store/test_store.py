@@ -555,6 +555,16 @@ def test_info_counts_what_the_store_holds(store: ScenarioStore) -> None:
     assert info.root == store.root
 
 
+def _dead_pid() -> int:
+    """The id of a process that has exited."""
+    import subprocess
+    import sys
+
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    return child.pid
+
+
 def test_vacuum_removes_orphans_but_not_fresh_staging(store: ScenarioStore) -> None:
     store.replace_source("src", "h", [make_log("A")])
     orphan = store.root / "logs" / "A" / "deadbeef"
@@ -563,10 +573,17 @@ def test_vacuum_removes_orphans_but_not_fresh_staging(store: ScenarioStore) -> N
     old_staging = store.root / ".staging" / "123-old"
     old_staging.mkdir(parents=True)
     os.utime(old_staging, (time.time() - 7200, time.time() - 7200))
-    fresh_staging = store.root / ".staging" / "456-fresh"
+    fresh_staging = store.root / ".staging" / f"{os.getpid()}-fresh"  # a live writer's
     fresh_staging.mkdir()
-    assert store.vacuum() == 2
-    assert not orphan.exists() and not old_staging.exists() and fresh_staging.exists()
+    dead_staging = store.root / ".staging" / f"{_dead_pid()}-dead"  # fresh, but its writer is gone
+    dead_staging.mkdir()
+    check = store.check()
+    assert check.ok and "logs/A/deadbeef" in check.orphaned_files
+    assert set(check.stale_staging) == {".staging/123-old", f".staging/{dead_staging.name}"}
+    assert store.vacuum() == 3
+    assert not orphan.exists() and not old_staging.exists() and not dead_staging.exists()
+    assert fresh_staging.exists()
+    assert store.check().orphaned_files == () and store.check().stale_staging == ()
     assert store.load_log("A").log_id == "A"
 
 

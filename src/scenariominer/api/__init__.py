@@ -9,6 +9,8 @@ use case            function                                         module
 ingest              :func:`ingest`                                   :mod:`.corpus`
 info                :func:`info` (store opened without creating it)  :mod:`.corpus`
 synth               :func:`synth`                                    :mod:`.corpus`
+store check         :func:`store_check`                              :mod:`.corpus`
+store vacuum        :func:`store_vacuum`                             :mod:`.corpus`
 analyze             :func:`analyze`                                  :mod:`.braking`
 search              :func:`search`                                   :mod:`.braking`
 show                :func:`show`                                     :mod:`.braking`
@@ -35,6 +37,8 @@ _EXPORTS: dict[str, str] = {
     "open_existing_store": "corpus",
     "open_store": "corpus",
     "synth": "corpus",
+    "store_check": "corpus",
+    "store_vacuum": "corpus",
     "AnalyzeRequest": "braking",
     "ShowRequest": "braking",
     "analyze": "braking",

@@ -23,7 +23,7 @@ from scenariominer.data.log import LOG_SCHEMA_VERSION, LogFormatError
 from scenariominer.data.preprocess import preprocess
 from scenariominer.data.sources import LogReader, LogSource, discover_sources, reader_for
 from scenariominer.progress import NullProgress, Progress, step
-from scenariominer.store import ScenarioStore, StoreInfo, resolve_store_path
+from scenariominer.store import ScenarioStore, StoreCheck, StoreInfo, resolve_store_path
 
 if TYPE_CHECKING:
     from scenariominer.data.synth import SynthResult
@@ -36,6 +36,8 @@ __all__ = [
     "ingest",
     "open_existing_store",
     "open_store",
+    "store_check",
+    "store_vacuum",
     "synth",
 ]
 
@@ -248,3 +250,13 @@ def find_sample_av2() -> Path | None:
         if c.is_dir() and any(c.glob("*/city_SE3_egovehicle.feather")):
             return c
     return None
+
+
+def store_check(path: str | Path | None = None, config: Config | None = None) -> StoreCheck:
+    """Leftovers of killed writers and missing files of the store at ``path`` (changes nothing)."""
+    return open_existing_store(path, config).check()
+
+
+def store_vacuum(path: str | Path | None = None, config: Config | None = None) -> int:
+    """Remove the leftovers :func:`store_check` lists; returns how many paths were removed."""
+    return open_existing_store(path, config).vacuum()

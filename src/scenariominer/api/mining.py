@@ -9,13 +9,12 @@ Argoverse 2 submission when asked. Nothing here prints.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
-import pyarrow.compute as pc
 
 from scenariominer.api.corpus import ingest
 from scenariominer.config import Config
@@ -24,9 +23,20 @@ from scenariominer.errors import MiningError
 from scenariominer.mine.export import MATCHES_TABLE, RUNS_TABLE, LogMatches, matches_table, runs_table
 from scenariominer.mine.query import QueryReport, make_synthesizer, mine_logs
 from scenariominer.mine.synthesis import normalize_description
-from scenariominer.store import ScenarioStore, UnknownTableError
+from scenariominer.store import ScenarioStore
 
-__all__ = ["MineRequest", "MineResult", "load_logs", "mine", "raw_logs_for", "store_report"]
+#: Column of the mining tables holding the normalised description: the key of their upserts.
+DESCRIPTION_KEY = "description_key"
+
+__all__ = [
+    "DESCRIPTION_KEY",
+    "MineRequest",
+    "MineResult",
+    "load_logs",
+    "mine",
+    "raw_logs_for",
+    "store_report",
+]
 
 
 @dataclass(frozen=True)
@@ -114,39 +124,21 @@ def mine(request: MineRequest, config: Config) -> MineResult:
     return MineResult(report, stored, request.export_av2)
 
 
-def _merge(
-    store: ScenarioStore, name: str, new: Mapping[str, pa.Table], description: str
-) -> dict[str, pa.Table]:
-    """Existing rows of table ``name`` for the logs in ``new``, minus this description's, plus ``new``."""
-    try:
-        old = store.read_table(name, list(new))
-    except UnknownTableError:
-        return dict(new)
-    key = normalize_description(description)
-    out: dict[str, pa.Table] = {}
-    for log_id, table in new.items():
-        rows = old.filter(pc.equal(old.column("log_id"), log_id))
-        if rows.num_rows:
-            same = np.array([normalize_description(d) == key for d in rows.column("description").to_pylist()])
-            rows = rows.filter(pa.array(~same)).drop_columns(["log_id"])
-            out[log_id] = pa.concat_tables([rows, table], promote_options="permissive")
-        else:
-            out[log_id] = table
-    return out
-
-
 def store_report(store: ScenarioStore, report: QueryReport) -> list[str]:
     """Write a query's matches to ``mining_results`` and ``mining_runs`` of the logs in the store.
 
-    Earlier rows of the same description (normalised) in those logs are replaced; rows of other
-    descriptions are kept. Logs the store does not hold are skipped.
+    Rows of the same description (normalised) in those logs are replaced, rows of other
+    descriptions are kept: a keyed upsert under the store's write lock, so processes mining
+    different descriptions at once never lose each other's rows. Logs the store does not hold
+    are skipped. Text from the program (error messages) is stored as valid UTF-8.
 
     Returns:
         The log ids written.
     """
     known = set(store.log_ids())
-    matches = [m for m in report.matches if m.log_id in known]
-    runs: dict[str, pa.Table] = {m.log_id: runs_table(m) for m in matches}
+    key = normalize_description(report.description)
+    runs: dict[str, pa.Table] = {m.log_id: runs_table(m) for m in report.matches if m.log_id in known}
+    cells = {m.log_id: matches_table(m) for m in report.matches if m.log_id in known}
     for failure in report.failures:
         if failure.log_id in known:
             empty = LogMatches(
@@ -154,19 +146,18 @@ def store_report(store: ScenarioStore, report: QueryReport) -> list[str]:
                 np.zeros(0, dtype=np.int64), np.zeros(0, dtype=str), np.zeros(0, dtype=str),
                 np.zeros((0, 0), dtype=bool), np.zeros((0, 3), dtype=np.int64),
             )  # fmt: skip
-            runs[failure.log_id] = runs_table(empty, status="failed", error=failure.error.feedback())
-    if not runs:
-        return []
-    cells = {m.log_id: matches_table(m) for m in matches}
-    tables: dict[str, dict[str, pa.Table]] = {}
-    for log_id, table in _merge(store, RUNS_TABLE, runs, report.description).items():
-        tables.setdefault(log_id, {})[RUNS_TABLE] = table
-    if cells:
-        for log_id, table in _merge(store, MATCHES_TABLE, cells, report.description).items():
-            tables.setdefault(log_id, {})[MATCHES_TABLE] = table
-    for log_id, per_log in tables.items():
-        store.write_tables(log_id, per_log)
-    return sorted(tables)
+            error = failure.error.feedback().encode("utf-8", "replace").decode("utf-8")
+            runs[failure.log_id] = runs_table(empty, status="failed", error=error)
+    for log_id in sorted(runs):
+        store.upsert_table_rows(log_id, RUNS_TABLE, _keyed(runs[log_id], key), DESCRIPTION_KEY, [key])
+        if log_id in cells:
+            store.upsert_table_rows(log_id, MATCHES_TABLE, _keyed(cells[log_id], key), DESCRIPTION_KEY, [key])
+    return sorted(runs)
+
+
+def _keyed(table: pa.Table, key: str) -> pa.Table:
+    """``table`` with the normalised description as its :data:`DESCRIPTION_KEY` column."""
+    return table.append_column(DESCRIPTION_KEY, pa.array([key] * table.num_rows, pa.string()))
 
 
 def load_logs(

@@ -12,6 +12,7 @@ Typical use::
 See ``docs/store.md`` for the layout and the consistency guarantees.
 """
 
+from scenariominer.store.corpus import CorpusRow, CorpusSchemaError, CorpusTable, CorpusTableInfo
 from scenariominer.store.store import (
     META_TABLE,
     SCHEMA_VERSION,
@@ -25,6 +26,7 @@ from scenariominer.store.store import (
     QueryError,
     ScenarioStore,
     SourceRecord,
+    StoreCheck,
     StoreError,
     StoreInfo,
     StoreVersionError,
@@ -48,6 +50,11 @@ from scenariominer.store.vectors import (
 )
 
 __all__ = [
+    "CorpusRow",
+    "CorpusSchemaError",
+    "CorpusTable",
+    "CorpusTableInfo",
+    "StoreCheck",
     "META_TABLE",
     "SCHEMA_VERSION",
     "STORE_ENV_VAR",

@@ -56,6 +56,7 @@ import pyarrow.parquet as pq
 
 from scenariominer import errors as _errors
 from scenariominer.data.log import STATE_FIELDS, Log, LogFormatError
+from scenariominer.store.corpus import CorpusTable, CorpusTableInfo, list_corpus_tables
 
 #: Value of ``format`` in ``store.json``.
 STORE_FORMAT = "scenariominer-store"
@@ -78,6 +79,8 @@ _TABLE_NAME_RE = re.compile(r"^[a-z][a-z0-9_]{0,62}$")
 _MAX_DIR_NAME = 200
 _READ_ATTEMPTS = 5
 _BUSY_TIMEOUT_S = 60.0
+#: Staging folders older than this are stale even when their writer's pid is alive (pid reuse).
+_STAGING_MAX_AGE_S = 24 * 3600.0
 _PARQUET_COMPRESSION = "zstd"
 
 _CATALOG_SCHEMA = """
@@ -307,6 +310,33 @@ class StoreInfo:
 
 
 @dataclass(frozen=True)
+class StoreCheck:
+    """Result of :meth:`ScenarioStore.check`.
+
+    Attributes:
+        root: the store directory.
+        n_logs: logs in the catalog.
+        orphaned_files: files and folders under ``logs/`` that no catalog entry references (leftovers
+            of a killed writer; :meth:`ScenarioStore.vacuum` removes them).
+        missing_files: files the catalog references that are gone (damage: re-ingest those logs).
+        stale_staging: staging folders of writers that are gone (removed by ``vacuum``).
+        corpus_tables: names of the corpus-level tables.
+    """
+
+    root: str
+    n_logs: int
+    orphaned_files: tuple[str, ...]
+    missing_files: tuple[str, ...]
+    stale_staging: tuple[str, ...]
+    corpus_tables: tuple[str, ...]
+
+    @property
+    def ok(self) -> bool:
+        """True when nothing is missing (orphans and stale staging are harmless leftovers)."""
+        return not self.missing_files
+
+
+@dataclass(frozen=True)
 class _LogRow:
     log_id: str
     source_key: str
@@ -533,6 +563,19 @@ class ScenarioStore:
             return [r[0] for r in rows]
 
     # ------------------------------------------------------------------ ingestion
+    def corpus(self, name: str, schema_version: int = 1) -> CorpusTable:
+        """The corpus-level table ``name`` (created on first write; see :mod:`scenariominer.store.corpus`).
+
+        Raises:
+            InvalidNameError: ``name`` is not a valid table name.
+            CorpusSchemaError: the table was written with another ``schema_version``.
+        """
+        return CorpusTable(self._root / _CATALOG, check_table_name(name), schema_version)
+
+    def corpus_tables(self) -> list[CorpusTableInfo]:
+        """Every corpus-level table with its schema version, version and row count."""
+        return list_corpus_tables(self._root / _CATALOG)
+
     def replace_source(self, source_key: str, content_hash: str, logs: Sequence[Log]) -> list[str]:
         """Make ``logs`` the complete, current content of source ``source_key``, atomically.
 
@@ -771,6 +814,52 @@ class ScenarioStore:
             _remove_tree(staging)
         self._discard(garbage)
 
+    def upsert_table_rows(
+        self, log_id: str, name: str, rows: pa.Table, key_column: str, keys: Sequence[str] | None = None
+    ) -> int:
+        """Keyed upsert into derived table ``name`` of one log (returns its new row count).
+
+        Rows whose ``key_column`` value is in ``keys`` (default: the values in ``rows``) are replaced
+        by ``rows``; every other row is kept. Pass ``keys`` with an empty ``rows`` to delete.
+
+        The read of the current rows, the merge and the catalog update happen under the catalog's
+        write lock, so concurrent writers (processes mining different descriptions on the same
+        log, say) never lose each other's rows. Returns the table's new row count.
+
+        Raises:
+            UnknownLogError: the log is not in the store.
+            ValueError: ``key_column`` is missing from ``rows``.
+        """
+        name = check_table_name(name)
+        if key_column not in rows.column_names:
+            raise ValueError(f"key column {key_column!r} is not among the columns {rows.column_names}")
+        new = _with_log_id(rows, log_id, name)
+        wanted = keys if keys is not None else new.column(key_column).to_pylist()
+        key_set = pa.array(sorted({str(k) for k in wanted}), pa.string())
+        with self._write_txn() as con:
+            dirs = _existing_logs(con, [log_id])
+            if log_id not in dirs:
+                raise UnknownLogError(log_id)
+            old = con.execute(
+                "SELECT file FROM log_tables WHERE log_id = ? AND name = ?", (log_id, name)
+            ).fetchone()
+            merged = new
+            if old is not None:
+                current = pq.read_table(self._root / old[0])
+                if key_column in current.column_names:
+                    stale = pc.is_in(current.column(key_column).cast(pa.string()), value_set=key_set)
+                    current = current.filter(pc.invert(pc.fill_null(stale, False)))
+                merged = pa.concat_tables([current, new], promote_options="permissive")
+            final = self._root / dirs[log_id] / f"{name}.{uuid.uuid4().hex[:12]}.parquet"
+            _write_parquet(merged, final)
+            con.execute(
+                "INSERT OR REPLACE INTO log_tables (log_id, name, file, n_rows) VALUES (?, ?, ?, ?)",
+                (log_id, name, final.relative_to(self._root).as_posix(), merged.num_rows),
+            )
+        if old is not None:
+            self._discard([self._root / old[0]])
+        return int(merged.num_rows)
+
     def read_table(self, name: str, log_ids: Sequence[str] | None = None) -> pa.Table:
         """Rows of table ``name`` (``tracks``, ``meta`` or a derived table) over logs, by log id.
 
@@ -912,13 +1001,47 @@ class ScenarioStore:
                             removed += 1
                 with contextlib.suppress(OSError):
                     log_dir.rmdir()
-            cutoff = time.time() - staging_max_age_s
-            staging_root = self._root / _STAGING_DIR
-            for entry in sorted(staging_root.iterdir()) if staging_root.is_dir() else []:
-                if entry.stat().st_mtime < cutoff:
-                    _remove_tree(entry)
-                    removed += 1
+            for entry in self._stale_staging(staging_max_age_s):
+                _remove_tree(entry)
+                removed += 1
         return removed
+
+    def check(self, staging_max_age_s: float = 3600.0) -> StoreCheck:
+        """What :meth:`vacuum` would remove, and catalog entries whose files are missing (read only)."""
+        snap = self._snapshot()
+        with contextlib.closing(self._connect()) as con:
+            dirs = {r[0] for r in con.execute("SELECT dir FROM logs")}
+            files = {r[0] for r in con.execute("SELECT file FROM log_tables")}
+        orphans: list[str] = []
+        logs_root = self._root / _LOGS_DIR
+        for log_dir in sorted(logs_root.iterdir()) if logs_root.is_dir() else []:
+            for version in sorted(log_dir.iterdir()) if log_dir.is_dir() else [log_dir]:
+                rel = version.relative_to(self._root).as_posix()
+                if rel not in dirs:
+                    orphans.append(rel)
+                    continue
+                orphans += [
+                    f.relative_to(self._root).as_posix()
+                    for f in sorted(version.iterdir())
+                    if f.name != "meta.json" and f.relative_to(self._root).as_posix() not in files
+                ]
+        missing = sorted(
+            [
+                f"{d}/{TRACKS_TABLE}.parquet"
+                for d in dirs
+                if not (self._root / d / f"{TRACKS_TABLE}.parquet").is_file()
+            ]
+            + [f for f in files if not (self._root / f).is_file()]
+        )
+        stale = [p.relative_to(self._root).as_posix() for p in self._stale_staging(staging_max_age_s)]
+        return StoreCheck(
+            root=str(self._root),
+            n_logs=len(snap.logs),
+            orphaned_files=tuple(orphans),
+            missing_files=tuple(missing),
+            stale_staging=tuple(stale),
+            corpus_tables=tuple(t.name for t in self.corpus_tables()),
+        )
 
     # ------------------------------------------------------------------ internals
     def _check_marker(self, marker: Path) -> None:
@@ -1002,9 +1125,30 @@ class ScenarioStore:
                 )
 
     def _new_staging(self) -> Path:
+        """A fresh staging folder ``<pid>-<random>``; stale staging of dead writers is removed first."""
+        for entry in self._stale_staging(_STAGING_MAX_AGE_S):
+            _remove_tree(entry)
         path = self._root / _STAGING_DIR / f"{os.getpid()}-{uuid.uuid4().hex[:12]}"
         path.mkdir(parents=True)
         return path
+
+    def _stale_staging(self, max_age_s: float) -> list[Path]:
+        """Staging folders whose writer is gone: its process no longer runs, or older than ``max_age_s``."""
+        root = self._root / _STAGING_DIR
+        if not root.is_dir():
+            return []
+        cutoff = time.time() - max_age_s
+        out = []
+        for entry in sorted(root.iterdir()):
+            pid_text = entry.name.split("-", 1)[0]
+            alive = pid_text.isdigit() and _process_alive(int(pid_text))
+            try:
+                old = entry.stat().st_mtime < cutoff
+            except FileNotFoundError:
+                continue
+            if not alive or old:
+                out.append(entry)
+        return out
 
     def _stage_log(self, staging: Path, log: Log, meta: LogMeta, digest: str) -> Path:
         version = staging / uuid.uuid4().hex[:16]
@@ -1273,3 +1417,16 @@ def _tree_size(root: Path) -> int:
             with contextlib.suppress(OSError):
                 total += os.stat(os.path.join(dirpath, fname)).st_size
     return total
+
+
+def _process_alive(pid: int) -> bool:
+    """Whether a process with this id runs on this machine (a staging folder's writer)."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
