@@ -10,6 +10,18 @@ from pathlib import Path
 
 import pytest
 
+#: Timeout of tests marked ``slow`` (the first call of the embedded model in a process can take
+#: minutes on 2 cores); the default for the others is ``timeout`` in pyproject.toml.
+SLOW_TIMEOUT_S = 1800
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Give slow tests the longer timeout unless they set their own."""
+    for item in items:
+        if item.get_closest_marker("slow") and not item.get_closest_marker("timeout"):
+            item.add_marker(pytest.mark.timeout(SLOW_TIMEOUT_S))
+
+
 SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 AV2_LOG_ID = "3b3570b4-7b0b-3268-a571-b0889dbf40b6"
 

@@ -10,7 +10,8 @@ from braking_builders import answer
 from scenariominer.config import Config
 from scenariominer.explain.categories import CategoryDef, CategorySet
 from scenariominer.explain.classify import ClassificationStatus, classify_description, understanding_model
-from scenariominer.llm import BackendError, ChatClient, ScriptedBackend
+from scenariominer.llm import BackendError, ChatClient
+from scenariominer.testing import ScriptedBackend
 
 DESCRIPTION = "Overview: a 4.0-second scenario between the ego vehicle and a guest REGULAR_VEHICLE."
 

@@ -14,8 +14,9 @@ from scenariominer import api
 from scenariominer.api import braking as braking_api
 from scenariominer.cli import app as root_app
 from scenariominer.config import Config
-from scenariominer.llm import ChatClient, ScriptedBackend
+from scenariominer.llm import ChatClient
 from scenariominer.store import ScenarioStore
+from scenariominer.testing import ScriptedBackend
 
 runner = CliRunner()
 

@@ -20,7 +20,17 @@ def test_messages_put_everything_shared_in_the_system_message() -> None:
         assert f"- {name}: {cats.definition(name)}" in a[0].content
     for key in ('"description"', '"category"', '"explanation"'):
         assert key in a[0].content
-    assert PROMPT_VERSION
+
+
+def test_a_new_prompt_version_forces_re_analysis(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    import scenariominer.explain.pipeline as pipeline
+    from scenariominer.config import Config
+    from scenariominer.testing import HashingEmbedder
+
+    cats, embedder = CategorySet.default(), HashingEmbedder(16)
+    before = pipeline.analysis_fingerprint(Config(), cats, None, embedder)
+    monkeypatch.setattr(pipeline, "PROMPT_VERSION", PROMPT_VERSION + "-next")
+    assert pipeline.analysis_fingerprint(Config(), cats, None, embedder) != before
 
 
 def test_tag_guide_quotes_the_configured_thresholds() -> None:

@@ -14,13 +14,12 @@ from scenariominer.llm import (
     Completion,
     GenerationParams,
     ResponseCache,
-    ScriptedBackend,
     StructuredOutputError,
     UsageCounter,
     system,
     user,
 )
-from scenariominer.llm.scripted import ScriptExhaustedError
+from scenariominer.testing import ScriptedBackend, ScriptExhaustedError
 
 
 class Verdict(BaseModel):

@@ -6,15 +6,6 @@ import subprocess
 import sys
 
 import scenariominer.llm as llm
-from scenariominer.llm import (
-    ChatBackend,
-    Embedder,
-    HashingEmbedder,
-    OpenAICompatBackend,
-    OpenAICompatEmbedder,
-    OpenAIHTTP,
-    ScriptedBackend,
-)
 
 
 def test_every_exported_name_exists_once_and_every_public_class_is_exported():
@@ -22,15 +13,6 @@ def test_every_exported_name_exists_once_and_every_public_class_is_exported():
     assert len(set(llm.__all__)) == len(llm.__all__)
     public_classes = {n for n in dir(llm) if n[0].isupper()}
     assert public_classes - set(llm.__all__) == set()
-
-
-def test_backends_and_embedders_satisfy_their_protocols():
-    http = OpenAIHTTP("http://127.0.0.1:9/v1")
-    assert isinstance(ScriptedBackend([]), ChatBackend)
-    assert isinstance(OpenAICompatBackend(http, "m"), ChatBackend)
-    assert isinstance(HashingEmbedder(4), Embedder)
-    assert isinstance(OpenAICompatEmbedder(http, "m"), Embedder)
-    http.close()
 
 
 def test_import_does_not_load_heavy_backends():

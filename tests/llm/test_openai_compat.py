@@ -23,6 +23,7 @@ from scenariominer.llm import (
     user,
 )
 from scenariominer.llm.openai_compat import resolve_api_key
+from scenariominer.testing import FakeClock
 
 CHAT = "/v1/chat/completions"
 
@@ -33,7 +34,7 @@ class Maneuver(BaseModel):
 
 
 def make_backend(url: str, **kw: object) -> OpenAICompatBackend:
-    http_kw = {k: kw.pop(k) for k in ("api_key", "timeout_s", "max_retries") if k in kw}
+    http_kw = {k: kw.pop(k) for k in ("api_key", "timeout_s", "max_retries", "sleep") if k in kw}
     http = OpenAIHTTP(url, **http_kw)  # type: ignore[arg-type]
     return OpenAICompatBackend(http, "qwen2.5-coder:1.5b", **kw)  # type: ignore[arg-type]
 
@@ -116,22 +117,24 @@ def test_http_error_status_raises_with_status_and_body(openai_server, status):
 def test_server_errors_are_retried_then_succeed(openai_server):
     openai_server.push({"error": "overloaded"}, status=503)
     openai_server.push({"error": "rate limit"}, status=429, content_type="application/json")
-    backend = make_backend(openai_server.base_url, max_retries=2)
-    t0 = time.perf_counter()
+    clock = FakeClock()
+    backend = make_backend(openai_server.base_url, max_retries=2, sleep=clock.sleep)
     completion = backend.complete(ChatRequest((user("hi"),)))
     assert completion.text == '{"maneuver": "braking", "confidence": 0.9}'
     assert len(openai_server.bodies(CHAT)) == 3
-    assert time.perf_counter() - t0 >= 0.5 + 1.0 - 0.05  # exponential back-off: 0.5 s, then 1 s
+    assert clock.sleeps == [0.5, 1.0]  # exponential back-off, without really waiting
 
 
 def test_server_error_after_retries_raises_http_error(openai_server):
     openai_server.push({"error": "boom"}, status=500)
     openai_server.push({"error": "boom"}, status=500)
-    backend = make_backend(openai_server.base_url, max_retries=1)
+    clock = FakeClock()
+    backend = make_backend(openai_server.base_url, max_retries=1, sleep=clock.sleep)
     with pytest.raises(BackendHTTPError) as info:
         backend.complete(ChatRequest((user("hi"),)))
     assert info.value.status_code == 500
     assert len(openai_server.bodies(CHAT)) == 2
+    assert clock.sleeps == [0.5]
 
 
 def test_timeout_raises_timeout_error_naming_the_limit(openai_server):

@@ -16,7 +16,7 @@ from scenariominer.api.mining import store_report
 from scenariominer.cli import app as root_app
 from scenariominer.config.mining import GenerationConfig, MiningConfig
 from scenariominer.data.log import Log
-from scenariominer.llm import ChatClient, HashingEmbedder, ScriptedBackend
+from scenariominer.llm import ChatClient, HashingEmbedder
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.export import (
     MATCHES_TABLE,
@@ -44,6 +44,7 @@ from scenariominer.mine.sandbox import ProgramResult, run_trusted_program
 from scenariominer.mine.scenario import Scenario
 from scenariominer.mine.synthesis import ExampleSelector, ProgramSynthesizer
 from scenariominer.store import ScenarioStore
+from scenariominer.testing import ScriptedBackend
 
 KEY = "vehicle with a bicycle to its right"
 PROGRAM = """

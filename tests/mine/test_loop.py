@@ -9,7 +9,7 @@ import pytest
 from mining_scenes import street_scene
 
 from scenariominer.config.mining import GenerationConfig, MiningConfig
-from scenariominer.llm import ChatClient, HashingEmbedder, ScriptedBackend
+from scenariominer.llm import ChatClient, HashingEmbedder
 from scenariominer.llm.base import Role
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.loop import (
@@ -22,6 +22,7 @@ from scenariominer.mine.loop import (
 from scenariominer.mine.programs import load_examples
 from scenariominer.mine.sandbox import ErrorKind, ProgramResult, run_trusted_program
 from scenariominer.mine.synthesis import ExampleSelector, ProgramSynthesizer
+from scenariominer.testing import ScriptedBackend
 
 DESCRIPTION = "vehicle with a bicycle to its right"
 

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import inspect
-import re
 
 import pytest
 
 from scenariominer.config.mining import ReferenceStyle
 from scenariominer.data.categories import AV2_CATEGORIES
-from scenariominer.llm.base import Role
+from scenariominer.llm.base import Message, Role
 from scenariominer.mine.predicates import DSL_FUNCTIONS, library_reference
 from scenariominer.mine.programs import ExampleProgram, load_examples
 from scenariominer.mine.prompts import (
@@ -27,8 +26,15 @@ EX_A = ExampleProgram("bus in the bike lane", "x = 1\noutput_scenario(x, descrip
 EX_B = ExampleProgram("accelerating vehicle", "y = 2\noutput_scenario(y, description)\n")
 
 
-def test_prompt_version_is_named() -> None:
-    assert re.fullmatch(r"mining-program/\d+", PROMPT_VERSION)
+def test_a_new_prompt_version_invalidates_cached_programs(monkeypatch: pytest.MonkeyPatch) -> None:
+    import scenariominer.mine.loop as loop
+    from scenariominer.config.mining import GenerationConfig
+
+    messages = [Message(Role.USER, "find buses")]
+    before = loop.program_cache_key("bus", "m", messages, GenerationConfig())
+    assert loop.program_cache_key("Bus ", "m", messages, GenerationConfig()) == before  # normalised
+    monkeypatch.setattr(loop, "PROMPT_VERSION", PROMPT_VERSION + "-next")
+    assert loop.program_cache_key("bus", "m", messages, GenerationConfig()) != before
 
 
 @pytest.mark.parametrize("style", list(ReferenceStyle))

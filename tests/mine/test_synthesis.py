@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from scenariominer.config.mining import GenerationConfig
-from scenariominer.llm import ChatClient, HashingEmbedder, ScriptedBackend
+from scenariominer.llm import ChatClient, HashingEmbedder
 from scenariominer.llm.base import Role
 from scenariominer.mine.programs import ExampleProgram, load_examples
 from scenariominer.mine.synthesis import (
@@ -14,6 +14,7 @@ from scenariominer.mine.synthesis import (
     extract_program,
     normalize_description,
 )
+from scenariominer.testing import ScriptedBackend
 
 PROGRAM = (
     "vehicles = get_objects_of_category(log_dir, category='VEHICLE')\n"

@@ -12,12 +12,9 @@ import numpy as np
 
 from scenariominer.data.log import Log, build_log
 from scenariominer.data.preprocess import preprocess
+from scenariominer.testing import braking_speed, integrate, times
 
 DT_S = 0.1
-
-
-def times(duration_s: float, dt_s: float = DT_S) -> np.ndarray:
-    return np.arange(int(round(duration_s / dt_s)) + 1) * dt_s
 
 
 @dataclass
@@ -32,34 +29,6 @@ class Track:
     length_m: float = 4.5
     width_m: float = 2.0
     present: np.ndarray | None = field(default=None)
-
-
-def integrate(
-    t_s: np.ndarray,
-    speed_mps: np.ndarray | float,
-    yaw_rate_radps: np.ndarray | float = 0.0,
-    x0_m: float = 0.0,
-    y0_m: float = 0.0,
-    yaw0_rad: float = 0.0,
-    substeps: int = 50,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Position and heading of a point moving along its heading (negative speed = backwards)."""
-    speed = np.broadcast_to(np.asarray(speed_mps, dtype=float), t_s.shape)
-    rate = np.broadcast_to(np.asarray(yaw_rate_radps, dtype=float), t_s.shape)
-    fine = np.linspace(t_s[0], t_s[-1], (t_s.size - 1) * substeps + 1)
-    v = np.interp(fine, t_s, speed)
-    w = np.interp(fine, t_s, rate)
-    h = np.diff(fine)
-    yaw = yaw0_rad + np.concatenate([[0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * h)])
-    vx, vy = v * np.cos(yaw), v * np.sin(yaw)
-    x = x0_m + np.concatenate([[0.0], np.cumsum(0.5 * (vx[1:] + vx[:-1]) * h)])
-    y = y0_m + np.concatenate([[0.0], np.cumsum(0.5 * (vy[1:] + vy[:-1]) * h)])
-    return x[::substeps], y[::substeps], np.angle(np.exp(1j * yaw[::substeps]))
-
-
-def braking_speed(t_s: np.ndarray, v0_mps: float, brake_at_s: float, decel_mps2: float) -> np.ndarray:
-    """Constant speed, then constant deceleration from ``brake_at_s`` down to standstill."""
-    return np.maximum(v0_mps - decel_mps2 * np.clip(t_s - brake_at_s, 0.0, None), 0.0)
 
 
 def make_log(tracks: list[Track], t_s: np.ndarray, *, smooth: bool = True, log_id: str = "scene") -> Log:

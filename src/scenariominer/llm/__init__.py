@@ -3,7 +3,8 @@
 * :class:`ChatClient` - structured output (pydantic model or JSON schema) with one repair round,
   free-text completion, on-disk cache, usage accounting, bounded concurrency for batches.
 * Chat backends (:class:`ChatBackend`): :class:`LlamaCppBackend` (embedded, offline default),
-  :class:`OpenAICompatBackend` (any OpenAI-compatible server), :class:`ScriptedBackend` (tests).
+  :class:`OpenAICompatBackend` (any OpenAI-compatible server); the scripted fake for tests is
+  :class:`scenariominer.testing.ScriptedBackend`.
 * Embedders (:class:`Embedder`): :class:`SentenceTransformerEmbedder` (offline default),
   :class:`OpenAICompatEmbedder`, :class:`HashingEmbedder` (tests); results are :class:`Embeddings`.
 * :func:`make_chat_client` and :func:`make_embedder` build them from the configuration.
@@ -52,7 +53,6 @@ from scenariominer.llm.factory import generation_params, make_chat_backend, make
 from scenariominer.llm.llamacpp import LlamaCppBackend
 from scenariominer.llm.model_files import DEFAULT_MODEL, BundledModel, ModelFile, resolve_model_file
 from scenariominer.llm.openai_compat import OpenAICompatBackend, OpenAIHTTP
-from scenariominer.llm.scripted import ScriptedBackend, ScriptedReply, ScriptExhaustedError
 from scenariominer.llm.usage import CallKind, UsageCounter, UsageReport, UsageRow, print_usage
 
 __all__ = [
@@ -88,9 +88,6 @@ __all__ = [
     "OutputSpec",
     "ResponseCache",
     "Role",
-    "ScriptExhaustedError",
-    "ScriptedBackend",
-    "ScriptedReply",
     "SentenceTransformerEmbedder",
     "StructuredOutputError",
     "StructuredResult",

@@ -241,7 +241,7 @@ class ChatBackend(Protocol):
 
     Implementations: :class:`~scenariominer.llm.llamacpp.LlamaCppBackend`,
     :class:`~scenariominer.llm.openai_compat.OpenAICompatBackend`,
-    :class:`~scenariominer.llm.scripted.ScriptedBackend` (the test fake).
+    :class:`~scenariominer.testing.ScriptedBackend` (the test fake).
     """
 
     @property

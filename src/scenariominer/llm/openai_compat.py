@@ -12,7 +12,7 @@ import contextlib
 import os
 import re
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import httpx
@@ -51,6 +51,7 @@ class OpenAIHTTP:
         max_retries: retries after a connection error or HTTP 429/5xx.
         max_connections: connection pool size (at least the intended concurrency).
         transport: custom httpx transport (tests).
+        sleep: waits between retries (``time.sleep``; tests pass a fake clock's ``sleep``).
     """
 
     def __init__(
@@ -62,12 +63,14 @@ class OpenAIHTTP:
         max_retries: int = 2,
         max_connections: int = 4,
         transport: httpx.BaseTransport | None = None,
+        sleep: Callable[[float], None] = time.sleep,
     ) -> None:
         if not base_url.startswith(("http://", "https://")):
             raise ValueError(f"base_url must start with http:// or https://, got {base_url!r}")
         self.base_url = base_url.rstrip("/")
         self.timeout_s = timeout_s
         self.max_retries = max_retries
+        self._wait = sleep
         headers = {"Accept": "application/json"}
         if api_key:
             headers["Authorization"] = f"Bearer {api_key}"
@@ -121,13 +124,13 @@ class OpenAIHTTP:
                 raise BackendResponseError(f"expected a JSON object, got {type(body).__name__}", url)
             return body
 
-    @staticmethod
-    def _sleep(attempt: int, retry_after: str | None) -> None:
+    def _sleep(self, attempt: int, retry_after: str | None) -> None:
+        """Wait before retry ``attempt``: exponential back-off, or the server's ``Retry-After`` (capped)."""
         delay = _BACKOFF_S * 2**attempt
         if retry_after:
             with contextlib.suppress(ValueError):
                 delay = min(max(float(retry_after), 0.0), _MAX_RETRY_AFTER_S)
-        time.sleep(delay)
+        self._wait(delay)
 
     def close(self) -> None:
         """Close the connection pool."""
