@@ -57,3 +57,29 @@ def test_bad_files_name_the_key(tmp_path: Path, text: str, message: str) -> None
 def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="does not exist"):
         load_config(tmp_path / "nope.toml", environ={})
+
+
+@pytest.mark.parametrize(
+    ("toml", "message"),
+    [
+        ("[preprocess]\nsmooth_window_s = -1.0\n", "smooth_window_s must be in (0, 60]"),
+        ("[preprocess]\nsmooth_polyorder = 0\n", "smooth_polyorder must be an integer from 1 to 7"),
+        ("[preprocess]\nmax_gap_s = nan\n", "preprocess.max_gap_s must be a finite number"),
+        ("[ingest]\nmin_track_frames = 0\n", "min_track_frames must be at least 1"),
+        ("[ingest]\nhighd_radius_m = inf\n", "ingest.highd_radius_m must be a finite number"),
+        ("[ingest]\nhighd_ego_ids = [3, -1]\n", "highd_ego_ids must hold non-negative"),
+        ("[ingest]\nhighd_window_s = true\n", "ingest.highd_window_s must be a number"),
+        ("[preprocess]\nwindow = 3\n", "unknown key(s) ['window'] in [preprocess]"),
+    ],
+)
+def test_bad_values_name_the_file_and_the_key(tmp_path: Path, toml: str, message: str) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text(toml, encoding="utf-8")
+    with pytest.raises(ConfigError) as info:
+        load_config(path, environ={})
+    assert message in str(info.value) and str(path) in str(info.value)
+
+
+def test_environment_values_are_validated_too() -> None:
+    with pytest.raises(ConfigError, match="smooth_window_s"):
+        load_config(environ={"SCENARIOMINER__PREPROCESS__SMOOTH_WINDOW_S": "0"})

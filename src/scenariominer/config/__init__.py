@@ -13,6 +13,7 @@ no path is given.
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import tomllib
 import types
@@ -96,10 +97,15 @@ def _coerce(value: Any, tp: Any, key: str) -> Any:
             raise ConfigError(f"{key} must be true or false, got {value!r}")
         return value
     if tp is float:
+        if isinstance(value, bool):
+            raise ConfigError(f"{key} must be a number, got {value!r}")
         try:
-            return float(value)
+            number = float(value)
         except (TypeError, ValueError):
             raise ConfigError(f"{key} must be a number, got {value!r}") from None
+        if not math.isfinite(number):
+            raise ConfigError(f"{key} must be a finite number, got {value!r}")
+        return number
     if tp is int:
         if isinstance(value, bool):
             raise ConfigError(f"{key} must be an integer, got {value!r}")
@@ -119,7 +125,12 @@ def _build(cls: type[T], data: dict[str, Any], prefix: str) -> T:
     if unknown:
         raise ConfigError(f"unknown key(s) {unknown} in [{prefix or 'root'}]; known: {sorted(names)}")
     kwargs = {k: _coerce(v, hints[k], f"{prefix}.{k}" if prefix else k) for k, v in data.items()}
-    return cls(**kwargs)
+    try:
+        return cls(**kwargs)
+    except ConfigError:
+        raise
+    except (ValueError, TypeError) as exc:  # a range check in the section's __post_init__
+        raise ConfigError(f"[{prefix or 'root'}] {exc}") from None
 
 
 def _env_overrides(environ: typing.Mapping[str, str]) -> dict[str, Any]:
@@ -166,4 +177,8 @@ def load_config(path: str | Path | None = None, environ: typing.Mapping[str, str
         except tomllib.TOMLDecodeError as exc:
             raise ConfigError(f"config file {p} is not valid TOML: {exc}") from None
     data = _merge(data, _env_overrides(env))
-    return _build(Config, data, "")
+    try:
+        return _build(Config, data, "")
+    except ConfigError as exc:
+        where = f"config file {path}" if path is not None else "configuration"
+        raise ConfigError(f"{where} (or a {ENV_PREFIX}* variable): {exc}") from None

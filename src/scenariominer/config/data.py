@@ -2,7 +2,16 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+from scenariominer.errors import ConfigError
+
+
+def _check(ok: bool, key: str, message: str) -> None:
+    """Raise a :class:`ConfigError` naming ``key`` unless ``ok``."""
+    if not ok:
+        raise ConfigError(f"{key} {message}")
 
 
 @dataclass(frozen=True)
@@ -28,6 +37,11 @@ class PreprocessConfig:
     max_gap_s: float = 2.0
     smooth_yaw: bool = True
 
+    def __post_init__(self) -> None:
+        _check(0.0 < self.smooth_window_s <= 60.0, "smooth_window_s", "must be in (0, 60] seconds")
+        _check(1 <= self.smooth_polyorder <= 7, "smooth_polyorder", "must be an integer from 1 to 7")
+        _check(0.0 <= self.max_gap_s <= 3600.0, "max_gap_s", "must be in [0, 3600] seconds")
+
 
 @dataclass(frozen=True)
 class IngestConfig:
@@ -49,6 +63,17 @@ class IngestConfig:
     highd_ego_ids: tuple[int, ...] = ()
     highd_max_egos_per_recording: int = 20
     min_track_frames: int = 2
+
+    def __post_init__(self) -> None:
+        _check(0.0 < self.highd_window_s <= 3600.0, "highd_window_s", "must be in (0, 3600] seconds")
+        _check(
+            self.highd_radius_m > 0.0 and math.isfinite(self.highd_radius_m), "highd_radius_m", "must be > 0"
+        )
+        _check(all(i >= 0 for i in self.highd_ego_ids), "highd_ego_ids", "must hold non-negative vehicle ids")
+        _check(
+            self.highd_max_egos_per_recording >= 0, "highd_max_egos_per_recording", "must be >= 0 (0: no cap)"
+        )
+        _check(self.min_track_frames >= 1, "min_track_frames", "must be at least 1")
 
 
 @dataclass(frozen=True)
