@@ -32,7 +32,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 import shapely  # noqa: E402
 
-from scenariominer.data.av2 import read_av2_log  # noqa: E402
+from scenariominer.data.adapters.av2 import read_av2_log  # noqa: E402
 from scenariominer.data.preprocess import preprocess  # noqa: E402
 from scenariominer.data.synth import ScenarioCategory, generate_log  # noqa: E402
 from scenariominer.mine.context import LogContext  # noqa: E402

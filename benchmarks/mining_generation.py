@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from scenariominer.config import load_config
-from scenariominer.data.av2 import read_av2_log
+from scenariominer.data.adapters.av2 import read_av2_log
 from scenariominer.data.preprocess import preprocess
 from scenariominer.data.synth import generate_log
 from scenariominer.mine.context import LogContext

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from scenariominer.config import Config, IngestConfig
-from scenariominer.data.highd import HighDFiles, HighDVehicle, write_highd_recording
+from scenariominer.data.adapters.highd import HighDFiles, HighDVehicle, write_highd_recording
 
 FRAME_RATE_HZ = 25.0
 UPPER_MARKINGS_M = (8.0, 11.8, 15.6)

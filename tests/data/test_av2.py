@@ -13,7 +13,7 @@ import pyarrow.feather as feather
 import pytest
 
 from scenariominer.config import Config
-from scenariominer.data.av2 import (
+from scenariominer.data.adapters.av2 import (
     ANNOTATIONS_FILE,
     ANNOTATIONS_WITH_EGO_FILE,
     AV2_EGO_CENTER_OFFSET_M,

@@ -9,7 +9,7 @@ import numpy as np
 import pyarrow.feather as feather
 import pytest
 
-from scenariominer.data.av2_map import (
+from scenariominer.data.adapters.av2.map import (
     Av2Map,
     DrivableArea,
     LaneSegment,

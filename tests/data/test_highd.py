@@ -20,7 +20,7 @@ from highd_files import (
 )
 
 from scenariominer.config import Config
-from scenariominer.data.highd import (
+from scenariominer.data.adapters.highd import (
     RECORDING_META_COLUMNS,
     TRACKS_COLUMNS,
     TRACKS_META_COLUMNS,

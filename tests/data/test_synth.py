@@ -11,8 +11,8 @@ import pytest
 
 from scenariominer.config import Config
 from scenariominer.config.tags import TagConfig
-from scenariominer.data.av2 import AV2_EGO_CENTER_OFFSET_M, Av2Reader
-from scenariominer.data.av2_map import read_av2_map
+from scenariominer.data.adapters.av2 import AV2_EGO_CENTER_OFFSET_M, Av2Reader
+from scenariominer.data.adapters.av2.map import read_av2_map
 from scenariominer.data.log import Log
 from scenariominer.data.preprocess import preprocess
 from scenariominer.data.synth import (

@@ -10,9 +10,9 @@ import pyarrow.parquet as pq
 import pytest
 
 from scenariominer.config import Config, IngestConfig
+from scenariominer.data.adapters.tabular import TabularReader, read_tabular, write_tabular
 from scenariominer.data.log import STATE_FIELDS, Log, LogFormatError, build_log
 from scenariominer.data.sources import LogReader
-from scenariominer.data.tabular import TabularReader, read_tabular, write_tabular
 
 HEADER = "log_id,track_id,timestamp_ns,category,x_m,y_m,yaw_rad,length_m,width_m"
 

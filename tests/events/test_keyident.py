@@ -150,7 +150,7 @@ def test_no_braking_means_no_events() -> None:
 
 
 def test_real_argoverse_log_yields_the_oncoming_car_the_ego_yields_to(av2_log_dir: Path) -> None:
-    from scenariominer.data.av2 import read_av2_log
+    from scenariominer.data.adapters.av2 import read_av2_log
 
     tags = tag_log(preprocess(read_av2_log(av2_log_dir)))
     events = find_key_objects(tags)

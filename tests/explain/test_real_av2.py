@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 from scenariominer.config import Config
-from scenariominer.data.av2 import read_av2_log
-from scenariominer.data.av2_map import read_av2_map
+from scenariominer.data.adapters.av2 import read_av2_log
+from scenariominer.data.adapters.av2.map import read_av2_map
 from scenariominer.data.log import Log
 from scenariominer.data.preprocess import preprocess
 from scenariominer.explain.categories import CategorySet

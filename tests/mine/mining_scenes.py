@@ -12,7 +12,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scenariominer.data.av2_map import Av2Map, DrivableArea, LaneSegment, LaneType, PedestrianCrossing
+from scenariominer.data.adapters.av2.map import (
+    Av2Map,
+    DrivableArea,
+    LaneSegment,
+    LaneType,
+    PedestrianCrossing,
+)
 from scenariominer.data.log import Log, build_log
 from scenariominer.mine.context import LogContext
 

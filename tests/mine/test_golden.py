@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from scenariominer.data.av2 import read_av2_log
+from scenariominer.data.adapters.av2 import read_av2_log
 from scenariominer.data.preprocess import preprocess
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.programs import load_examples

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from mining_scenes import street_scene
 
-from scenariominer.data.av2 import read_av2_log
+from scenariominer.data.adapters.av2 import read_av2_log
 from scenariominer.data.preprocess import preprocess
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.programs import ExampleBankError, load_examples, parse_examples

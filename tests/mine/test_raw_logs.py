@@ -8,7 +8,7 @@ import numpy as np
 
 from scenariominer.api.mining import raw_logs_for
 from scenariominer.config import Config
-from scenariominer.data.av2 import read_av2_log
+from scenariominer.data.adapters.av2 import read_av2_log
 from scenariominer.data.preprocess import preprocess
 
 

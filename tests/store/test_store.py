@@ -157,7 +157,7 @@ def test_round_trip_of_a_preprocessed_log_keeps_interpolated_cells_and_derivativ
 
 
 def test_the_real_av2_sample_log_round_trips(store: ScenarioStore, av2_log_dir: Path) -> None:
-    from scenariominer.data.av2 import Av2Reader, av2_source
+    from scenariominer.data.adapters.av2 import Av2Reader, av2_source
 
     config = Config()
     log = preprocess(next(Av2Reader().read(av2_source(av2_log_dir), config)), config.preprocess)

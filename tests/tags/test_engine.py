@@ -130,7 +130,7 @@ def test_public_api_is_exported() -> None:
 
 
 def test_real_argoverse_log_ego_brakes_stops_and_turns_left(av2_log_dir: Path) -> None:
-    from scenariominer.data.av2 import read_av2_log
+    from scenariominer.data.adapters.av2 import read_av2_log
     from scenariominer.data.preprocess import preprocess
 
     log = preprocess(read_av2_log(av2_log_dir))

@@ -19,35 +19,35 @@ from scenariominer.data.log import STATE_FIELDS, Log, LogFormatError, build_log
 from scenariominer.data.sources import InMemoryReader, LogReader, LogSource, discover_sources
 
 if TYPE_CHECKING:
-    from scenariominer.data.av2 import Av2Reader, read_av2_log, write_av2_log
-    from scenariominer.data.av2_map import Av2Map, read_av2_map, write_av2_map
-    from scenariominer.data.highd import HighDReader, write_highd_recording
+    from scenariominer.data.adapters.av2 import Av2Reader, read_av2_log, write_av2_log
+    from scenariominer.data.adapters.av2.map import Av2Map, read_av2_map, write_av2_map
+    from scenariominer.data.adapters.highd import HighDReader, write_highd_recording
+    from scenariominer.data.adapters.tabular import TabularReader, write_tabular
     from scenariominer.data.preprocess import preprocess
     from scenariominer.data.synth import ScenarioCategory, ScenarioLabel, generate, read_labels
-    from scenariominer.data.tabular import TabularReader, write_tabular
 
 _LAZY = {
-    "Av2Reader": "av2",
-    "read_av2_log": "av2",
-    "write_av2_log": "av2",
-    "Av2Map": "av2_map",
-    "read_av2_map": "av2_map",
-    "write_av2_map": "av2_map",
-    "HighDReader": "highd",
-    "write_highd_recording": "highd",
-    "preprocess": "preprocess",
-    "ScenarioCategory": "synth",
-    "ScenarioLabel": "synth",
-    "generate": "synth",
-    "read_labels": "synth",
-    "TabularReader": "tabular",
-    "write_tabular": "tabular",
+    "Av2Reader": "scenariominer.data.adapters.av2",
+    "read_av2_log": "scenariominer.data.adapters.av2",
+    "write_av2_log": "scenariominer.data.adapters.av2",
+    "Av2Map": "scenariominer.data.adapters.av2.map",
+    "read_av2_map": "scenariominer.data.adapters.av2.map",
+    "write_av2_map": "scenariominer.data.adapters.av2.map",
+    "HighDReader": "scenariominer.data.adapters.highd",
+    "write_highd_recording": "scenariominer.data.adapters.highd",
+    "preprocess": "scenariominer.data.preprocess",
+    "ScenarioCategory": "scenariominer.data.synth",
+    "ScenarioLabel": "scenariominer.data.synth",
+    "generate": "scenariominer.data.synth",
+    "read_labels": "scenariominer.data.synth",
+    "TabularReader": "scenariominer.data.adapters.tabular",
+    "write_tabular": "scenariominer.data.adapters.tabular",
 }
 
 
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
-        return getattr(importlib.import_module(f"scenariominer.data.{_LAZY[name]}"), name)
+        return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'scenariominer.data' has no attribute {name!r}")
 
 

@@ -87,12 +87,16 @@ class InMemoryReader:
 
 
 def default_readers() -> list[LogReader]:
-    """The built-in readers, most specific first (imports are lazy inside each adapter)."""
-    from scenariominer.data.av2 import Av2Reader
-    from scenariominer.data.highd import HighDReader
-    from scenariominer.data.tabular import TabularReader
+    """One instance of every registered adapter, most specific first (see :mod:`.adapters`)."""
+    from scenariominer.data.adapters import adapter_names, load_adapter
 
-    return [Av2Reader(), HighDReader(), TabularReader()]
+    readers: list[LogReader] = []
+    for name in adapter_names():
+        reader = load_adapter(name)
+        if not isinstance(reader, LogReader):
+            raise LogFormatError(name, "the registered adapter does not implement the LogReader protocol")
+        readers.append(reader)
+    return readers
 
 
 def discover_sources(

@@ -33,7 +33,7 @@ it has reached its lowest speed. For ``not_relevant`` it is the time the guest s
 
 The in-memory logs (:func:`generate_log`) carry the ego's box centre (``dataset="synthetic"``).
 Written logs follow the Argoverse 2 convention (the writer moves the ego pose to the rear axle,
-:data:`~scenariominer.data.av2.AV2_EGO_CENTER_OFFSET_M` behind the box centre, and the reader back).
+:data:`~scenariominer.data.adapters.av2.AV2_EGO_CENTER_OFFSET_M` behind the box centre, and the reader back).
 """
 
 from __future__ import annotations
@@ -49,8 +49,8 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from scenariominer.data.av2 import AV2_EGO_SIZE_M, write_av2_log
-from scenariominer.data.av2_map import (
+from scenariominer.data.adapters.av2 import AV2_EGO_SIZE_M, write_av2_log
+from scenariominer.data.adapters.av2.map import (
     Av2Map,
     DrivableArea,
     LaneSegment,

@@ -26,7 +26,7 @@ from scenariominer.geometry import OrientedBoxes
 from scenariominer.store import ScenarioStore
 
 if TYPE_CHECKING:
-    from scenariominer.data.av2_map import Av2Map
+    from scenariominer.data.adapters.av2.map import Av2Map
 
 __all__ = ["EGO_COLOR", "GUEST_COLOR", "OTHER_COLOR", "UnknownEventError", "render_event", "show_event"]
 
@@ -244,7 +244,7 @@ def show_event(
     log = store.load_log(log_id)
     av2_map = None
     if log.map_dir is not None:
-        from scenariominer.data.av2_map import read_av2_map
+        from scenariominer.data.adapters.av2.map import read_av2_map
 
         try:
             av2_map = read_av2_map(log.map_dir)

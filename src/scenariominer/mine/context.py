@@ -28,7 +28,7 @@ from scipy.sparse.csgraph import connected_components
 
 from scenariominer import errors as _errors
 from scenariominer.config.mining import MiningConfig
-from scenariominer.data.av2_map import Av2Map, read_av2_map
+from scenariominer.data.adapters.av2.map import Av2Map, read_av2_map
 from scenariominer.data.categories import expand_categories
 from scenariominer.data.log import BoolArray, FloatArray, Log
 from scenariominer.geometry import OrientedBoxes, box_distance_m, to_local, wrap_angle, yaw_rate_radps
@@ -109,7 +109,7 @@ class MapRequiredError(_errors.MiningError, RuntimeError):
 class MapIndex:
     """Mining look-ups over an Argoverse 2 vector map, built once per map.
 
-    Wraps an :class:`~scenariominer.data.av2_map.Av2Map` (its lane polygons, centre lines,
+    Wraps an :class:`~scenariominer.data.adapters.av2.map.Av2Map` (its lane polygons, centre lines,
     types, intersection flags, crossings, drivable areas and lane graph) and derives the lane
     groupings RefAV's predicates use:
 
@@ -314,7 +314,7 @@ class LogContext:
     Args:
         log: the log to mine.
         config: predicate thresholds; defaults to :class:`MiningConfig`.
-        hd_map: an HD map for the log (an :class:`~scenariominer.data.av2_map.Av2Map` or a
+        hd_map: an HD map for the log (an :class:`~scenariominer.data.adapters.av2.map.Av2Map` or a
             :class:`MapIndex`); ``None`` reads ``log.map_dir`` on first use, if set.
     """
 

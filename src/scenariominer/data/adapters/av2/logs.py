@@ -8,7 +8,7 @@ An Argoverse 2 log folder (``<root>/<split>/<log_id>/``) holds
   **in the ego-vehicle frame of that timestamp**, plus ``num_interior_pts`` (lidar returns);
 * ``city_SE3_egovehicle.feather``: the ego pose in the city frame (``timestamp_ns``, ``qw qx qy qz``,
   ``tx_m ty_m tz_m``) at about 170 Hz, a superset of the annotation timestamps;
-* ``map/``: the vector map (see :mod:`scenariominer.data.av2_map`).
+* ``map/``: the vector map (see :mod:`scenariominer.data.adapters.av2.map`).
 
 Boxes are moved to the city frame with the ego pose *of the same timestamp*
 (``p_city = R_city_ego @ p_ego + t_city_ego``, ``R_city_box = R_city_ego @ R_ego_box``); a timestamp
