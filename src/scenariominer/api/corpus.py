@@ -10,7 +10,6 @@ Typical use::
 
 from __future__ import annotations
 
-import hashlib
 import json
 import time
 from collections.abc import Sequence
@@ -19,9 +18,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from scenariominer.config import Config, load_config
-from scenariominer.data.log import LOG_SCHEMA_VERSION, LogFormatError
-from scenariominer.data.preprocess import preprocess
-from scenariominer.data.sources import LogReader, LogSource, discover_sources, reader_for
+from scenariominer.data.ingest import SourceResult, ingest_sources
+from scenariominer.data.sources import LogReader
 from scenariominer.progress import NullProgress, Progress, step
 from scenariominer.store import ScenarioStore, StoreCheck, StoreInfo, resolve_store_path
 
@@ -63,29 +61,6 @@ def open_existing_store(path: str | Path | None = None, config: Config | None = 
 
 
 @dataclass(frozen=True)
-class SourceResult:
-    """Outcome of ingesting one source.
-
-    Attributes:
-        key: the source's stable key (its absolute path).
-        format: reader that handled it.
-        status: ``ingested``, ``skipped`` (unchanged content) or ``failed``.
-        log_ids: logs written (or already present when skipped).
-        error: the problem, for failed sources.
-        notes: repairs applied while reading (dropped rows, interpolated cells, ...).
-        seconds: wall time spent on this source.
-    """
-
-    key: str
-    format: str
-    status: str
-    log_ids: tuple[str, ...] = ()
-    error: str = ""
-    notes: tuple[str, ...] = ()
-    seconds: float = 0.0
-
-
-@dataclass(frozen=True)
 class IngestReport:
     """Result of :func:`ingest`: one entry per source plus a summary of the store afterwards."""
 
@@ -109,19 +84,6 @@ class IngestReport:
     def to_json(self) -> str:
         """The report as JSON (for scripts)."""
         return json.dumps(asdict(self), default=str, indent=2)
-
-
-def _pipeline_fingerprint(config: Config) -> str:
-    """Hash of the settings that change what ingestion writes (a change forces re-ingestion)."""
-    payload = json.dumps(
-        {
-            "log_schema": LOG_SCHEMA_VERSION,
-            "preprocess": asdict(config.preprocess),
-            "ingest": asdict(config.ingest),
-        },
-        sort_keys=True,
-    )
-    return hashlib.sha256(payload.encode()).hexdigest()[:16]
 
 
 def ingest(
@@ -152,58 +114,15 @@ def ingest(
             individual sources are reported in the result instead.
     """
     config = config or load_config()
-    progress = progress or NullProgress()
     t0 = time.perf_counter()
-    sources: list[LogSource] = discover_sources(paths, readers)
-    fingerprint = _pipeline_fingerprint(config)
-    results: list[SourceResult] = []
-    n_frames = 0
-    n_logs = 0
-    with step(progress, "ingest", len(sources)):
-        for source in sources:
-            ts = time.perf_counter()
-            try:
-                content_hash = f"{source.content_hash()}:{fingerprint}"
-                if not force and not store.needs_ingest(source.key, content_hash):
-                    results.append(
-                        SourceResult(
-                            source.key, source.format, "skipped", tuple(store.logs_of_source(source.key))
-                        )
-                    )
-                    progress.advance(1, f"skipped {Path(source.key).name}")
-                    continue
-                reader = reader_for(source, readers)
-                logs = [preprocess(log, config.preprocess) for log in reader.read(source, config)]
-                if not logs:
-                    raise LogFormatError(source.path, "the source yielded no logs")
-                written = store.replace_source(source.key, content_hash, logs)
-                notes = tuple(f"{log.log_id}: {note}" for log in logs for note in log.notes)
-                n_frames += sum(log.n_frames for log in logs)
-                n_logs += len(logs)
-                results.append(
-                    SourceResult(
-                        source.key,
-                        source.format,
-                        "ingested",
-                        tuple(written),
-                        notes=notes,
-                        seconds=time.perf_counter() - ts,
-                    )
-                )
-                progress.advance(1, Path(source.key).name)
-            except (LogFormatError, OSError, ValueError) as exc:
-                results.append(
-                    SourceResult(
-                        source.key, source.format, "failed", error=str(exc), seconds=time.perf_counter() - ts
-                    )
-                )
-                progress.advance(1, f"failed {Path(source.key).name}")
+    results = ingest_sources(paths, store, config, force=force, readers=readers, progress=progress)
+    written = [r for r in results if r.status == "ingested"]
     return IngestReport(
         sources=tuple(results),
         store=store.info(),
         seconds=time.perf_counter() - t0,
-        n_frames_ingested=n_frames,
-        n_logs_ingested=n_logs,
+        n_frames_ingested=sum(r.n_frames for r in written),
+        n_logs_ingested=sum(len(r.log_ids) for r in written),
         failed=tuple(r for r in results if r.status == "failed"),
     )
 

@@ -178,8 +178,7 @@ def load_logs(
         ValueError: neither paths nor a store.
     """
     from scenariominer.config import load_config
-    from scenariominer.data.preprocess import preprocess
-    from scenariominer.data.sources import discover_sources, reader_for
+    from scenariominer.data.ingest import MemorySink, ingest_sources
 
     cfg = config or load_config()
     if paths and store is not None:
@@ -190,11 +189,11 @@ def load_logs(
         ids = [log_id for r in report.sources for log_id in r.log_ids]
         return [store.load_log(i) for i in dict.fromkeys(ids)]
     if paths:
-        logs: list[Log] = []
-        for source in discover_sources(list(paths)):
-            reader = reader_for(source)
-            logs.extend(preprocess(log, cfg.preprocess) for log in reader.read(source, cfg))
-        return logs
+        sink = MemorySink()
+        for result in ingest_sources(list(paths), sink, cfg):
+            if result.status == "failed":
+                raise LogFormatError(result.key, result.error)
+        return sink.all_logs()
     if store is not None:
         return [store.load_log(i) for i in store.log_ids()]
     raise ValueError("give log paths, a store, or both")

@@ -1,0 +1,164 @@
+"""The one ingestion loop: discover → read → validate → preprocess → hand to a sink.
+
+The sink is where logs go: the scenario store (it implements :class:`LogSink`), or a
+:class:`MemorySink` for commands that mine files without a store. Failures are isolated per source:
+a source that cannot be read or fails validation is reported with the reason and the loop goes on;
+the sink keeps what it had for that source.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from collections.abc import Iterable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Protocol
+
+from scenariominer.config import Config
+from scenariominer.data.log import LOG_SCHEMA_VERSION, Log, LogFormatError
+from scenariominer.data.preprocess import preprocess
+from scenariominer.data.sources import LogReader, LogSource, discover_sources, reader_for
+from scenariominer.progress import NullProgress, Progress, step
+
+__all__ = ["LogSink", "MemorySink", "SourceResult", "ingest_sources", "pipeline_fingerprint"]
+
+
+class LogSink(Protocol):
+    """Where ingested logs go (the scenario store implements it)."""
+
+    def needs_ingest(self, source_key: str, content_hash: str) -> bool:
+        """Whether the source must be (re)read: new, or its content or settings changed."""
+        ...
+
+    def logs_of_source(self, source_key: str) -> list[str]:
+        """Log ids held for a source."""
+        ...
+
+    def replace_source(self, source_key: str, content_hash: str, logs: Sequence[Log]) -> list[str]:
+        """Replace the source's logs atomically; returns the log ids written."""
+        ...
+
+
+class MemorySink:
+    """A sink that keeps the logs in memory (for a one-off run over files)."""
+
+    def __init__(self) -> None:
+        self.logs: dict[str, list[Log]] = {}
+
+    def needs_ingest(self, source_key: str, content_hash: str) -> bool:
+        """Always: nothing is kept between runs."""
+        return True
+
+    def logs_of_source(self, source_key: str) -> list[str]:
+        """Log ids read from the source so far."""
+        return [log.log_id for log in self.logs.get(source_key, [])]
+
+    def replace_source(self, source_key: str, content_hash: str, logs: Sequence[Log]) -> list[str]:
+        """Keep the logs under the source's key."""
+        self.logs[source_key] = list(logs)
+        return [log.log_id for log in logs]
+
+    def all_logs(self) -> list[Log]:
+        """Every log, in the order the sources were read."""
+        return [log for logs in self.logs.values() for log in logs]
+
+
+@dataclass(frozen=True)
+class SourceResult:
+    """Outcome of ingesting one source.
+
+    Attributes:
+        key: the source's stable key (its absolute path).
+        format: reader that handled it.
+        status: ``ingested``, ``skipped`` (unchanged content) or ``failed``.
+        log_ids: logs written (or already present when skipped).
+        error: the problem, for failed sources.
+        notes: repairs applied while reading (dropped rows, interpolated cells, ...).
+        seconds: wall time spent on this source.
+        n_frames: valid (track, timestamp) cells of the logs written.
+    """
+
+    key: str
+    format: str
+    status: str
+    log_ids: tuple[str, ...] = ()
+    error: str = ""
+    notes: tuple[str, ...] = ()
+    seconds: float = 0.0
+    n_frames: int = 0
+
+
+def pipeline_fingerprint(config: Config) -> str:
+    """Hash of what changes the stored logs (a change re-ingests): log schema, preprocess, ingest."""
+    payload = json.dumps(
+        {
+            "log_schema": LOG_SCHEMA_VERSION,
+            "preprocess": asdict(config.preprocess),
+            "ingest": asdict(config.ingest),
+        },
+        sort_keys=True,
+    )
+    return hashlib.sha256(payload.encode()).hexdigest()[:16]
+
+
+def ingest_sources(
+    paths: Iterable[str | Path],
+    sink: LogSink,
+    config: Config,
+    *,
+    force: bool = False,
+    readers: Sequence[LogReader] | None = None,
+    progress: Progress | None = None,
+) -> list[SourceResult]:
+    """Run the ingestion loop over every source found under ``paths``.
+
+    Raises:
+        LogFormatError: a path does not exist or holds nothing recognisable. Problems inside
+            individual sources are reported in the results instead.
+    """
+    progress = progress or NullProgress()
+    sources: list[LogSource] = discover_sources(paths, readers)
+    fingerprint = pipeline_fingerprint(config)
+    results: list[SourceResult] = []
+    with step(progress, "ingest", len(sources)):
+        for source in sources:
+            result = _ingest_one(source, sink, config, fingerprint, force, readers)
+            results.append(result)
+            name = Path(source.key).name
+            progress.advance(1, name if result.status == "ingested" else f"{result.status} {name}")
+    return results
+
+
+def _ingest_one(
+    source: LogSource,
+    sink: LogSink,
+    config: Config,
+    fingerprint: str,
+    force: bool,
+    readers: Sequence[LogReader] | None,
+) -> SourceResult:
+    t0 = time.perf_counter()
+    try:
+        content_hash = f"{source.content_hash()}:{fingerprint}"
+        if not force and not sink.needs_ingest(source.key, content_hash):
+            return SourceResult(source.key, source.format, "skipped", tuple(sink.logs_of_source(source.key)))
+        reader = reader_for(source, readers)
+        logs = [preprocess(log, config.preprocess) for log in reader.read(source, config)]
+        if not logs:
+            raise LogFormatError(source.path, "the source yielded no logs")
+        written = sink.replace_source(source.key, content_hash, logs)
+    except (LogFormatError, OSError, ValueError) as exc:
+        return SourceResult(
+            source.key, source.format, "failed", error=str(exc), seconds=time.perf_counter() - t0
+        )
+    return SourceResult(
+        source.key,
+        source.format,
+        "ingested",
+        tuple(written),
+        notes=tuple(f"{log.log_id}: {note}" for log in logs for note in log.notes),
+        seconds=time.perf_counter() - t0,
+        n_frames=sum(log.n_frames for log in logs),
+    )
