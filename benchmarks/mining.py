@@ -36,7 +36,7 @@ from scenariominer.data.adapters.av2 import read_av2_log  # noqa: E402
 from scenariominer.data.preprocess import preprocess  # noqa: E402
 from scenariominer.data.synth import ScenarioCategory, generate_log  # noqa: E402
 from scenariominer.mine.context import LogContext  # noqa: E402
-from scenariominer.mine.predicates import get_objects_of_category, has_objects_in_relative_direction  # noqa: E402
+from scenariominer.mine.dsl import get_objects_of_category, has_objects_in_relative_direction  # noqa: E402
 from scenariominer.mine.programs import ExampleProgram, load_examples  # noqa: E402
 from scenariominer.mine.sandbox import run_program, run_trusted_program  # noqa: E402
 

@@ -15,7 +15,7 @@ import pytest
 from mining_scenes import T_S, Obj, const, idx, make_log, street_map, street_objects, street_scene
 
 from scenariominer.config.mining import MiningConfig, SandboxConfig
-from scenariominer.mine import predicates as P
+from scenariominer.mine import dsl as P
 from scenariominer.mine.context import LogContext, MapRequiredError
 from scenariominer.mine.scenario import Scenario
 

@@ -9,7 +9,7 @@ import pytest
 from scenariominer.config.mining import ReferenceStyle
 from scenariominer.data.categories import AV2_CATEGORIES
 from scenariominer.llm.base import Message, Role
-from scenariominer.mine.predicates import DSL_FUNCTIONS, library_reference
+from scenariominer.mine.dsl import DSL_FUNCTIONS, library_reference
 from scenariominer.mine.programs import ExampleProgram, load_examples
 from scenariominer.mine.prompts import (
     PROMPT_VERSION,

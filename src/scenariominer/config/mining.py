@@ -1,6 +1,6 @@
 """Configuration of program-based scenario mining: predicate thresholds, post-processing, sandbox.
 
-The atomic predicates of :mod:`scenariominer.mine.predicates` take their *tunable arguments*
+The atomic predicates of :mod:`scenariominer.mine.dsl` take their *tunable arguments*
 (``within_distance``, ``min_velocity``, ...) from the program that calls them; the thresholds below
 are the ones a program cannot set: what counts as "moving", how much heading change makes a turn,
 how far ahead a lead vehicle may be for "following", and so on. Defaults follow RefAV (Davidson et

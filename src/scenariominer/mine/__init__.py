@@ -2,7 +2,7 @@
 
 * :mod:`~scenariominer.mine.context`: :class:`LogContext`, the per-log arrays every predicate shares;
 * :mod:`~scenariominer.mine.scenario`: :class:`Scenario` and its Boolean composition;
-* :mod:`~scenariominer.mine.predicates`: the atomic functions mining programs call (the DSL);
+* :mod:`~scenariominer.mine.dsl`: the atomic functions mining programs call (the DSL);
 * :mod:`~scenariominer.mine.sandbox`: checking and running programs safely;
 * :mod:`~scenariominer.mine.programs`: the hand-written example bank;
 * :mod:`~scenariominer.mine.prompts`, :mod:`~scenariominer.mine.synthesis`: writing programs with
@@ -25,6 +25,7 @@ from scenariominer.mine.clip_filter import (
     rank_crops,
 )
 from scenariominer.mine.context import LogContext, MapIndex, MapRequiredError
+from scenariominer.mine.dsl import DSL_FUNCTIONS, library_reference
 from scenariominer.mine.export import (
     LogMatches,
     ObjectLabel,
@@ -41,7 +42,6 @@ from scenariominer.mine.loop import (
     ProgramCache,
     generate_program,
 )
-from scenariominer.mine.predicates import DSL_FUNCTIONS, library_reference
 from scenariominer.mine.programs import ExampleProgram, load_examples
 from scenariominer.mine.prompts import PROMPT_VERSION
 from scenariominer.mine.query import (

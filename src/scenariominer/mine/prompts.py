@@ -30,7 +30,7 @@ from functools import cache
 from scenariominer.config.mining import ReferenceStyle
 from scenariominer.data.categories import AV2_CATEGORIES, CATEGORY_GROUPS
 from scenariominer.llm.base import Message, assistant, system, user
-from scenariominer.mine.predicates import DSL_FUNCTIONS, library_reference
+from scenariominer.mine.dsl import DSL_FUNCTIONS, library_reference
 from scenariominer.mine.programs import ExampleProgram
 
 __all__ = [
@@ -201,7 +201,7 @@ def compact_reference(names: tuple[str, ...] | None = None) -> str:
     Per function: the signature, the one-line summary, the paragraph stating which argument is
     the subject and which the reference (when the function has one), the first sentence of each
     argument's description and the first example. About half the tokens of
-    :func:`~scenariominer.mine.predicates.library_reference`.
+    :func:`~scenariominer.mine.dsl.library_reference`.
 
     Args:
         names: functions to include, in this order; default every DSL function.

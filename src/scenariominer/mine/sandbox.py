@@ -1,7 +1,7 @@
 """Checking and running mining programs: an AST whitelist, then a resource-limited child process.
 
 A mining program is a short Python text written by a language model (or a person) that calls
-the functions of :mod:`scenariominer.mine.predicates` and ends with
+the functions of :mod:`scenariominer.mine.dsl` and ends with
 ``output_scenario(scenario, description, log_dir, output_dir)`` (RefAV's convention). The
 program sees these predefined variables:
 
@@ -64,7 +64,7 @@ import numpy as np
 from scenariominer.config.mining import MiningConfig, SandboxConfig
 from scenariominer.data.log import Log
 from scenariominer.mine.context import LogContext, MapRequiredError
-from scenariominer.mine.predicates import DSL_FUNCTIONS, OutputError, capture_output
+from scenariominer.mine.dsl import DSL_FUNCTIONS, OutputError, capture_output
 from scenariominer.mine.scenario import Scenario, postprocess_scenario
 
 __all__ = [
