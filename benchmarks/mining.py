@@ -1,7 +1,7 @@
 """Execution speed of hand-written mining programs over many logs, with two baselines.
 
 Runs every program of the shipped example bank (31 descriptions) over N logs: synthetic logs
-from ``scenariominer.data.synth.generate_log`` (each with its vector map, generated in memory)
+from ``scenariominer.synth.generate_log`` (each with its vector map, generated in memory)
 plus the shared Argoverse 2 log when it is beside the checkout. Prints
 
 * the columnar path: programs × logs per second and the mean milliseconds of each program,
@@ -34,11 +34,11 @@ import shapely  # noqa: E402
 
 from scenariominer.data.adapters.av2 import read_av2_log  # noqa: E402
 from scenariominer.data.preprocess import preprocess  # noqa: E402
-from scenariominer.data.synth import ScenarioCategory, generate_log  # noqa: E402
 from scenariominer.mine.context import LogContext  # noqa: E402
 from scenariominer.mine.dsl import get_objects_of_category, has_objects_in_relative_direction  # noqa: E402
 from scenariominer.mine.programs import ExampleProgram, load_examples  # noqa: E402
 from scenariominer.mine.sandbox import run_program, run_trusted_program  # noqa: E402
+from scenariominer.synth import ScenarioCategory, generate_log  # noqa: E402
 
 SHARED_AV2 = (
     Path(__file__).resolve().parents[2] / "shared" / "data" / "av2" / "3b3570b4-7b0b-3268-a571-b0889dbf40b6"

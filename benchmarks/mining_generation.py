@@ -28,11 +28,11 @@ import numpy as np
 from scenariominer.config import load_config
 from scenariominer.data.adapters.av2 import read_av2_log
 from scenariominer.data.preprocess import preprocess
-from scenariominer.data.synth import generate_log
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.loop import ProgramCache, generate_program
 from scenariominer.mine.programs import load_examples
 from scenariominer.mine.query import make_synthesizer
+from scenariominer.synth import generate_log
 
 SHARED_LOG = Path(__file__).resolve().parents[2] / "shared/data/av2/3b3570b4-7b0b-3268-a571-b0889dbf40b6"
 KEY = "vehicle with a bicycle to its right"

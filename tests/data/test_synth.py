@@ -15,7 +15,8 @@ from scenariominer.data.adapters.av2 import AV2_EGO_CENTER_OFFSET_M, Av2Reader
 from scenariominer.data.adapters.av2.map import read_av2_map
 from scenariominer.data.log import Log
 from scenariominer.data.preprocess import preprocess
-from scenariominer.data.synth import (
+from scenariominer.events.keyident import find_key_objects
+from scenariominer.synth import (
     LABEL_COLUMNS,
     ScenarioCategory,
     ScenarioLabel,
@@ -25,7 +26,6 @@ from scenariominer.data.synth import (
     read_labels,
     write_labels,
 )
-from scenariominer.events.keyident import find_key_objects
 from scenariominer.tags import tag_log
 
 ALL = list(ScenarioCategory)

@@ -12,12 +12,12 @@ from scenariominer import api
 from scenariominer.config import Config
 from scenariominer.data.log import Log, build_log
 from scenariominer.data.preprocess import preprocess
-from scenariominer.data.synth import ScenarioLabel, read_labels
 from scenariominer.explain import pipeline
 from scenariominer.explain.pipeline import LogStatus, analyze_store
 from scenariominer.explain.records import EMBEDDINGS_TABLE, EVENTS_TABLE, RUNS_TABLE, TAGS_TABLE
 from scenariominer.llm import ChatClient, ChatRequest, HashingEmbedder, ResponseCache
 from scenariominer.store import ScenarioStore
+from scenariominer.synth import ScenarioLabel, read_labels
 from scenariominer.testing import ScriptedBackend
 
 CATEGORIES = ["cut_in", "left_oppo", "right_ped", "not_relevant"]

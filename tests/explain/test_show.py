@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from braking_builders import record, store_with_events, tiny_log
 
-from scenariominer.data.synth import generate_log
 from scenariominer.explain.show import UnknownEventError, render_event, show_event
 from scenariominer.llm import HashingEmbedder
+from scenariominer.synth import generate_log
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

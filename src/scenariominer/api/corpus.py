@@ -24,7 +24,7 @@ from scenariominer.progress import NullProgress, Progress, step
 from scenariominer.store import ScenarioStore, StoreCheck, StoreInfo, resolve_store_path
 
 if TYPE_CHECKING:
-    from scenariominer.data.synth import SynthResult
+    from scenariominer.synth import SynthResult
 
 __all__ = [
     "IngestReport",
@@ -142,11 +142,11 @@ def synth(
 ) -> SynthResult:
     """Write ``n`` labelled synthetic scenarios in the Argoverse 2 format plus ``labels.csv``.
 
-    See :func:`scenariominer.data.synth.generate`; categories cycle through ``categories``
+    See :func:`scenariominer.synth.generate`; categories cycle through ``categories``
     (all of cut_in, lead_brake, approach_stop, ped_crossing, obj_crossing, left_oppo,
     right_ped, not_relevant by default).
     """
-    from scenariominer.data.synth import generate
+    from scenariominer.synth import generate
 
     if n < 1:
         raise ValueError(f"n must be at least 1, got {n}")

@@ -1,4 +1,4 @@
-"""Canonical log model, dataset adapters, preprocessing and the synthetic generator.
+"""Canonical log model, dataset adapters, preprocessing and the one ingestion loop.
 
 The adapters pull in scipy and shapely, so they are imported on first attribute access
 (``scenariominer.data.Av2Reader``) rather than with the package.
@@ -24,7 +24,6 @@ if TYPE_CHECKING:
     from scenariominer.data.adapters.highd import HighDReader, write_highd_recording
     from scenariominer.data.adapters.tabular import TabularReader, write_tabular
     from scenariominer.data.preprocess import preprocess
-    from scenariominer.data.synth import ScenarioCategory, ScenarioLabel, generate, read_labels
 
 _LAZY = {
     "Av2Reader": "scenariominer.data.adapters.av2",
@@ -36,10 +35,6 @@ _LAZY = {
     "HighDReader": "scenariominer.data.adapters.highd",
     "write_highd_recording": "scenariominer.data.adapters.highd",
     "preprocess": "scenariominer.data.preprocess",
-    "ScenarioCategory": "scenariominer.data.synth",
-    "ScenarioLabel": "scenariominer.data.synth",
-    "generate": "scenariominer.data.synth",
-    "read_labels": "scenariominer.data.synth",
     "TabularReader": "scenariominer.data.adapters.tabular",
     "write_tabular": "scenariominer.data.adapters.tabular",
 }
@@ -63,18 +58,14 @@ __all__ = [
     "LogFormatError",
     "LogReader",
     "LogSource",
-    "ScenarioCategory",
-    "ScenarioLabel",
     "TabularReader",
     "build_log",
     "canonical_category",
     "discover_sources",
     "expand_categories",
-    "generate",
     "preprocess",
     "read_av2_log",
     "read_av2_map",
-    "read_labels",
     "write_av2_log",
     "write_av2_map",
     "write_highd_recording",
