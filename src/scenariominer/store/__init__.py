@@ -13,28 +13,34 @@ See ``docs/store.md`` for the layout and the consistency guarantees.
 """
 
 from scenariominer.store.corpus import CorpusRow, CorpusSchemaError, CorpusTable, CorpusTableInfo
-from scenariominer.store.store import (
+from scenariominer.store.errors import (
+    InvalidLogError,
+    InvalidNameError,
+    LogConflictError,
+    NotAStoreError,
+    QueryError,
+    StoreError,
+    StoreVersionError,
+    UnknownLogError,
+    UnknownTableError,
+)
+from scenariominer.store.layout import (
     META_TABLE,
     SCHEMA_VERSION,
     STORE_ENV_VAR,
     TRACKS_TABLE,
-    InvalidLogError,
-    InvalidNameError,
-    LogConflictError,
-    LogMeta,
-    NotAStoreError,
-    QueryError,
-    ScenarioStore,
-    SourceRecord,
-    StoreCheck,
-    StoreError,
-    StoreInfo,
-    StoreVersionError,
-    UnknownLogError,
-    UnknownTableError,
     check_table_name,
     default_store_path,
     resolve_store_path,
+)
+from scenariominer.store.records import (
+    LogMeta,
+    SourceRecord,
+    StoreCheck,
+    StoreInfo,
+)
+from scenariominer.store.store import (
+    ScenarioStore,
 )
 from scenariominer.store.vectors import (
     EmbeddingHit,

@@ -30,422 +30,92 @@ the only moment a change becomes visible, so
 from __future__ import annotations
 
 import contextlib
-import functools
-import hashlib
 import json
 import os
 import re
-import shutil
 import sqlite3
 import threading
 import time
 import uuid
 from collections import Counter
 from collections.abc import Collection, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
-from datetime import UTC, datetime
+from datetime import datetime
 from pathlib import Path
 from typing import Any
-from urllib.parse import quote
 
 import duckdb
-import numpy as np
 import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
-from scenariominer import errors as _errors
-from scenariominer.data.log import STATE_FIELDS, Log, LogFormatError
+from scenariominer.data.log import Log
+from scenariominer.store.catalog import (
+    _CATALOG_SCHEMA,
+    _delete_log_rows,
+    _existing_logs,
+    _log_rows,
+    _table_list,
+)
 from scenariominer.store.corpus import CorpusTable, CorpusTableInfo, list_corpus_tables
-
-#: Value of ``format`` in ``store.json``.
-STORE_FORMAT = "scenariominer-store"
-#: Layout version written by this code; a store with a higher version is refused.
-SCHEMA_VERSION = 1
-#: Environment variable naming the store directory (see :func:`resolve_store_path`).
-STORE_ENV_VAR = "SCENARIOMINER_STORE"
-#: Name of the per-observation table of every log.
-TRACKS_TABLE = "tracks"
-#: Name of the one-row-per-log metadata view available in :meth:`ScenarioStore.sql`.
-META_TABLE = "meta"
-#: Table names a caller cannot write.
-RESERVED_TABLES = frozenset({TRACKS_TABLE, META_TABLE})
-
-_MARKER = "store.json"
-_CATALOG = "catalog.sqlite"
-_LOGS_DIR = "logs"
-_STAGING_DIR = ".staging"
-_TABLE_NAME_RE = re.compile(r"^[a-z][a-z0-9_]{0,62}$")
-_MAX_DIR_NAME = 200
-_READ_ATTEMPTS = 5
-_BUSY_TIMEOUT_S = 60.0
-#: Staging folders older than this are stale even when their writer's pid is alive (pid reuse).
-_STAGING_MAX_AGE_S = 24 * 3600.0
-_PARQUET_COMPRESSION = "zstd"
-
-_CATALOG_SCHEMA = """
-CREATE TABLE IF NOT EXISTS state (key TEXT PRIMARY KEY, value INTEGER NOT NULL);
-INSERT OR IGNORE INTO state (key, value) VALUES ('generation', 0);
-CREATE TABLE IF NOT EXISTS sources (
-    source_key TEXT PRIMARY KEY,
-    content_hash TEXT NOT NULL,
-    ingested_at TEXT NOT NULL
-);
-CREATE TABLE IF NOT EXISTS logs (
-    log_id TEXT PRIMARY KEY,
-    source_key TEXT NOT NULL,
-    dir TEXT NOT NULL,
-    digest TEXT NOT NULL,
-    meta TEXT NOT NULL
-);
-CREATE INDEX IF NOT EXISTS logs_by_source ON logs (source_key);
-CREATE TABLE IF NOT EXISTS log_tables (
-    log_id TEXT NOT NULL,
-    name TEXT NOT NULL,
-    file TEXT NOT NULL,
-    n_rows INTEGER NOT NULL,
-    PRIMARY KEY (log_id, name)
-);
-CREATE INDEX IF NOT EXISTS log_tables_by_name ON log_tables (name);
-"""
-
+from scenariominer.store.errors import (
+    InvalidLogError,
+    InvalidNameError,
+    LogConflictError,
+    NotAStoreError,
+    QueryError,
+    StoreVersionError,
+    UnknownLogError,
+    UnknownTableError,
+)
+from scenariominer.store.layout import (
+    _BUSY_TIMEOUT_S,
+    _CATALOG,
+    _LOGS_DIR,
+    _MARKER,
+    _READ_ATTEMPTS,
+    _STAGING_DIR,
+    _STAGING_MAX_AGE_S,
+    META_TABLE,
+    RESERVED_TABLES,
+    SCHEMA_VERSION,
+    STORE_FORMAT,
+    TRACKS_TABLE,
+    _process_alive,
+    _remove_tree,
+    _tree_size,
+    _write_json_atomic,
+    _write_parquet,
+    check_table_name,
+    find_orphans,
+    log_dir_name,
+)
+from scenariominer.store.query import (
+    _relation_to_arrow,
+    register_views,
+)
+from scenariominer.store.records import (
+    LogMeta,
+    SourceRecord,
+    StoreCheck,
+    StoreInfo,
+    _check_storable,
+    _log_digest,
+    _log_from_table,
+    _LogRow,
+    _meta_file,
+    _meta_table,
+    _now,
+    _Snapshot,
+    _with_log_id,
+)
 
 # ---------------------------------------------------------------------- errors
-
-
-class StoreError(_errors.StoreError):
-    """Base class of every error raised by the store."""
-
-
-class NotAStoreError(StoreError):
-    """A directory cannot be opened as a store; the message names the path and the reason.
-
-    Attributes:
-        path: the directory that was to be opened.
-        problem: one-line description of what is wrong.
-    """
-
-    def __init__(self, path: str | Path, problem: str) -> None:
-        self.path = str(path)
-        self.problem = problem
-        super().__init__(f"{self.path}: {problem}")
-
-
-class StoreVersionError(StoreError):
-    """The store was written by a newer scenariominer with an unknown layout version."""
-
-
-class UnknownLogError(StoreError, LookupError):
-    """A log id is not in the store."""
-
-    def __init__(self, log_id: str) -> None:
-        self.log_id = log_id
-        super().__init__(f"log {log_id!r} is not in the store")
-
-    def __str__(self) -> str:
-        return str(self.args[0])
-
-
-class UnknownTableError(StoreError, LookupError):
-    """A table name is not present in the store; the message lists the tables that are."""
-
-    def __init__(self, name: str, available: Sequence[str]) -> None:
-        self.name = name
-        self.available = tuple(available)
-        super().__init__(f"no table {name!r} in the store; available: {', '.join(self.available) or 'none'}")
-
-    def __str__(self) -> str:
-        return str(self.args[0])
-
-
-class InvalidNameError(StoreError, ValueError):
-    """A table name or log id cannot be used (the message says why)."""
-
-
-class InvalidLogError(StoreError, ValueError):
-    """A log cannot be stored without losing information (the message names the log and the cell)."""
-
-
-class LogConflictError(StoreError, ValueError):
-    """A source tried to write a log id that another source already owns."""
-
-
-class QueryError(StoreError):
-    """A SQL query failed; the message carries DuckDB's explanation and the available tables."""
 
 
 # ---------------------------------------------------------------------- records
 
 
-@dataclass(frozen=True)
-class LogMeta:
-    """What the store knows about one log without reading its tracks.
-
-    Attributes:
-        log_id: the log's identifier.
-        source_key: key of the source the log was ingested from.
-        dataset: source format name (``av2``, ``highd``, ``tabular``, ``synthetic``).
-        source_hash: content hash of the source files at ingestion.
-        source_path: file or folder the log was read from, if any.
-        map_dir: Argoverse 2 vector map folder, if any.
-        n_tracks: number of tracks, the ego included.
-        n_timestamps: number of timestamps.
-        n_frames: number of valid (track, timestamp) cells.
-        duration_s: time between the first and last timestamp, seconds.
-        start_timestamp_ns: first timestamp, nanoseconds.
-        end_timestamp_ns: last timestamp, nanoseconds.
-        categories: number of tracks per category.
-        notes: repairs applied while reading the log.
-        ingested_at: when the log was last ingested (UTC).
-        ego_pose_offset_m: see :attr:`Log.ego_pose_offset_m`.
-    """
-
-    log_id: str
-    source_key: str
-    dataset: str
-    source_hash: str
-    source_path: str | None
-    map_dir: str | None
-    n_tracks: int
-    n_timestamps: int
-    n_frames: int
-    duration_s: float
-    start_timestamp_ns: int
-    end_timestamp_ns: int
-    categories: Mapping[str, int]
-    notes: tuple[str, ...]
-    ingested_at: datetime
-    ego_pose_offset_m: float = 0.0
-
-    @classmethod
-    def of_log(cls, log: Log, source_key: str, ingested_at: datetime) -> LogMeta:
-        """Metadata of ``log`` as ingested from ``source_key`` at ``ingested_at``."""
-        return cls(
-            log_id=log.log_id,
-            source_key=source_key,
-            dataset=log.dataset,
-            source_hash=log.source_hash,
-            source_path=str(log.source_path) if log.source_path is not None else None,
-            map_dir=str(log.map_dir) if log.map_dir is not None else None,
-            n_tracks=log.n_tracks,
-            n_timestamps=log.n_timestamps,
-            n_frames=log.n_frames,
-            duration_s=log.duration_s,
-            start_timestamp_ns=int(log.timestamps_ns[0]),
-            end_timestamp_ns=int(log.timestamps_ns[-1]),
-            categories=log.category_counts(),
-            notes=tuple(log.notes),
-            ingested_at=ingested_at,
-            ego_pose_offset_m=float(log.ego_pose_offset_m),
-        )
-
-    def to_json_dict(self) -> dict[str, Any]:
-        """JSON-serialisable form (``ingested_at`` as ISO 8601)."""
-        out = {name: getattr(self, name) for name in self.__dataclass_fields__}
-        out["categories"] = dict(self.categories)
-        out["notes"] = list(self.notes)
-        out["ingested_at"] = self.ingested_at.isoformat()
-        return out
-
-    @classmethod
-    def from_json_dict(cls, data: Mapping[str, Any]) -> LogMeta:
-        """Inverse of :meth:`to_json_dict`."""
-        fields = {name: data[name] for name in cls.__dataclass_fields__ if name in data}
-        fields["categories"] = {str(k): int(v) for k, v in data["categories"].items()}
-        fields["notes"] = tuple(data["notes"])
-        fields["ingested_at"] = datetime.fromisoformat(data["ingested_at"])
-        return cls(**fields)
-
-
-@dataclass(frozen=True)
-class SourceRecord:
-    """One ingested source.
-
-    Attributes:
-        source_key: stable identifier of the source (see :class:`~scenariominer.data.sources.LogSource`).
-        content_hash: hash the source had when it was last ingested.
-        log_ids: logs the source yielded, sorted.
-        ingested_at: when it was last ingested (UTC).
-    """
-
-    source_key: str
-    content_hash: str
-    log_ids: tuple[str, ...]
-    ingested_at: datetime
-
-
-@dataclass(frozen=True)
-class StoreInfo:
-    """Summary of a store's content.
-
-    Attributes:
-        root: the store directory.
-        schema_version: layout version of the store.
-        n_sources: ingested sources.
-        n_logs: logs.
-        n_tracks: tracks over all logs, egos included.
-        n_timestamps: timestamps over all logs.
-        n_frames: valid (track, timestamp) cells over all logs.
-        total_duration_s: summed log durations, seconds.
-        categories: tracks per category over all logs.
-        datasets: logs per dataset name.
-        tables: derived table names present (``tracks`` excluded), sorted.
-        table_logs: number of logs holding each derived table.
-        size_bytes: bytes on disk under the root.
-    """
-
-    root: Path
-    schema_version: int
-    n_sources: int
-    n_logs: int
-    n_tracks: int
-    n_timestamps: int
-    n_frames: int
-    total_duration_s: float
-    categories: Mapping[str, int] = field(default_factory=dict)
-    datasets: Mapping[str, int] = field(default_factory=dict)
-    tables: tuple[str, ...] = ()
-    table_logs: Mapping[str, int] = field(default_factory=dict)
-    size_bytes: int = 0
-
-
-@dataclass(frozen=True)
-class StoreCheck:
-    """Result of :meth:`ScenarioStore.check`.
-
-    Attributes:
-        root: the store directory.
-        n_logs: logs in the catalog.
-        orphaned_files: files and folders under ``logs/`` that no catalog entry references (leftovers
-            of a killed writer; :meth:`ScenarioStore.vacuum` removes them).
-        missing_files: files the catalog references that are gone (damage: re-ingest those logs).
-        stale_staging: staging folders of writers that are gone (removed by ``vacuum``).
-        corpus_tables: names of the corpus-level tables.
-    """
-
-    root: str
-    n_logs: int
-    orphaned_files: tuple[str, ...]
-    missing_files: tuple[str, ...]
-    stale_staging: tuple[str, ...]
-    corpus_tables: tuple[str, ...]
-
-    @property
-    def ok(self) -> bool:
-        """True when nothing is missing (orphans and stale staging are harmless leftovers)."""
-        return not self.missing_files
-
-
-@dataclass(frozen=True)
-class _LogRow:
-    log_id: str
-    source_key: str
-    dir: str
-    digest: str
-    meta_json: str = "{}"
-
-    @functools.cached_property
-    def meta(self) -> LogMeta:
-        return LogMeta.from_json_dict(json.loads(self.meta_json))
-
-
-@dataclass(frozen=True)
-class _Snapshot:
-    """One consistent read of the catalog (``tables`` possibly restricted to some names)."""
-
-    generation: int
-    n_sources: int
-    logs: dict[str, _LogRow]
-    tables: dict[str, dict[str, str]]  # table name -> log id -> file (relative to the root)
-    table_names: tuple[str, ...]  # every table name present, ``tracks`` included
-
-
 # ---------------------------------------------------------------------- locations
-
-
-def default_store_path() -> Path:
-    """Return the per-user default store, ``platformdirs.user_data_dir("scenariominer")/store``."""
-    from platformdirs import user_data_dir
-
-    return Path(user_data_dir("scenariominer")) / "store"
-
-
-def resolve_store_path(
-    path: str | Path | None = None,
-    config_path: str | Path | None = None,
-    *,
-    environ: Mapping[str, str] | None = None,
-) -> Path:
-    """Where the store lives, by precedence: ``path`` > ``$SCENARIOMINER_STORE`` > config > default.
-
-    Args:
-        path: an explicit directory (e.g. the ``--store`` option); wins when given.
-        config_path: ``config.store.path``; empty or ``None`` means unset.
-        environ: environment mapping (defaults to ``os.environ``).
-
-    Returns:
-        The store directory, ``~`` expanded (it may not exist yet).
-    """
-    env = os.environ if environ is None else environ
-    for candidate in (path, env.get(STORE_ENV_VAR), config_path):
-        if candidate is not None and str(candidate).strip():
-            return Path(candidate).expanduser()
-    return default_store_path()
-
-
-def log_dir_name(log_id: str) -> str:
-    """Directory name of a log: the id with unsafe characters percent-encoded.
-
-    Raises:
-        InvalidNameError: the id is empty, has control characters, or encodes to over 200 characters.
-    """
-    if not isinstance(log_id, str) or not log_id:
-        raise InvalidNameError(f"log id must be a non-empty string, got {log_id!r}")
-    if any(ord(ch) < 32 or ord(ch) == 127 for ch in log_id):
-        raise InvalidNameError(f"log id {log_id!r} contains control characters")
-    encoded = quote(log_id, safe="-_")
-    encoded = encoded.replace("~", "%7E")
-    if encoded.startswith("."):
-        encoded = "%2E" + encoded[1:]
-    if len(encoded) > _MAX_DIR_NAME:
-        raise InvalidNameError(
-            f"log id {log_id[:40]!r} is too long ({len(encoded)} > {_MAX_DIR_NAME} encoded)"
-        )
-    return encoded
-
-
-def check_table_name(name: str) -> str:
-    """Validate a derived table name and return it.
-
-    A table name must be a lower-case SQL identifier (``[a-z][a-z0-9_]*``, at most 63
-    characters), not a reserved SQL keyword, and not ``tracks`` or ``meta``.
-
-    Raises:
-        InvalidNameError: the name breaks one of these rules.
-    """
-    if not isinstance(name, str) or not _TABLE_NAME_RE.match(name):
-        raise InvalidNameError(
-            f"table name {name!r} is not a lower-case identifier ([a-z][a-z0-9_]*, at most 63 characters)"
-        )
-    if name in RESERVED_TABLES:
-        raise InvalidNameError(f"table name {name!r} is reserved by the store")
-    if name in _reserved_sql_keywords():
-        raise InvalidNameError(f"table name {name!r} is a reserved SQL keyword")
-    return name
-
-
-_KEYWORDS: frozenset[str] | None = None
-
-
-def _reserved_sql_keywords() -> frozenset[str]:
-    global _KEYWORDS
-    if _KEYWORDS is None:
-        with duckdb.connect(":memory:") as con:
-            rows = con.execute(
-                "SELECT keyword_name FROM duckdb_keywords() WHERE keyword_category = 'reserved'"
-            ).fetchall()
-        _KEYWORDS = frozenset(str(r[0]).lower() for r in rows)
-    return _KEYWORDS
 
 
 # ---------------------------------------------------------------------- the store
@@ -939,7 +609,7 @@ class ScenarioStore:
             snap = self._snapshot(None if META_TABLE in words else words, with_logs=META_TABLE in words)
             con = self._duckdb_cursor()
             try:
-                self._register_views(con, snap, words)
+                register_views(con, self._root, snap, words)
                 rel = con.sql(query, params=params)
                 return _relation_to_arrow(rel) if rel is not None else pa.table({})
             except duckdb.IOException as exc:
@@ -987,20 +657,11 @@ class ScenarioStore:
         with self._write_txn() as con:
             dirs = {r[0] for r in con.execute("SELECT dir FROM logs")}
             files = {r[0] for r in con.execute("SELECT file FROM log_tables")}
-            logs_root = self._root / _LOGS_DIR
-            for log_dir in sorted(logs_root.iterdir()) if logs_root.is_dir() else []:
-                for version in sorted(log_dir.iterdir()) if log_dir.is_dir() else [log_dir]:
-                    rel = version.relative_to(self._root).as_posix()
-                    if rel not in dirs:
-                        _remove_tree(version)
-                        removed += 1
-                        continue
-                    for f in version.iterdir():
-                        if f.name != "meta.json" and f.relative_to(self._root).as_posix() not in files:
-                            _remove_tree(f)
-                            removed += 1
+            for path in find_orphans(self._root, dirs, files):
+                _remove_tree(path)
+                removed += 1
                 with contextlib.suppress(OSError):
-                    log_dir.rmdir()
+                    path.parent.rmdir()  # a log folder left without any version
             for entry in self._stale_staging(staging_max_age_s):
                 _remove_tree(entry)
                 removed += 1
@@ -1012,19 +673,7 @@ class ScenarioStore:
         with contextlib.closing(self._connect()) as con:
             dirs = {r[0] for r in con.execute("SELECT dir FROM logs")}
             files = {r[0] for r in con.execute("SELECT file FROM log_tables")}
-        orphans: list[str] = []
-        logs_root = self._root / _LOGS_DIR
-        for log_dir in sorted(logs_root.iterdir()) if logs_root.is_dir() else []:
-            for version in sorted(log_dir.iterdir()) if log_dir.is_dir() else [log_dir]:
-                rel = version.relative_to(self._root).as_posix()
-                if rel not in dirs:
-                    orphans.append(rel)
-                    continue
-                orphans += [
-                    f.relative_to(self._root).as_posix()
-                    for f in sorted(version.iterdir())
-                    if f.name != "meta.json" and f.relative_to(self._root).as_posix() not in files
-                ]
+        orphans = [p.relative_to(self._root).as_posix() for p in find_orphans(self._root, dirs, files)]
         missing = sorted(
             [
                 f"{d}/{TRACKS_TABLE}.parquet"
@@ -1168,265 +817,5 @@ class ScenarioStore:
                 with contextlib.suppress(OSError):
                     parent.rmdir()  # only succeeds when the log has no version left
 
-    def _register_views(
-        self, con: duckdb.DuckDBPyConnection, snap: _Snapshot, words: Collection[str]
-    ) -> None:
-        """Create the views whose names occur in ``words``, over the snapshot's files."""
-        if META_TABLE in words:
-            con.register(META_TABLE, _meta_table(list(snap.logs.values()), snap))
-        for name, files in snap.tables.items():
-            if name not in words:
-                continue
-            paths = ", ".join(_sql_string(str(self._root / files[i])) for i in sorted(files))
-            union = "" if name == TRACKS_TABLE else ", union_by_name = true"
-            con.execute(f'CREATE TEMP VIEW "{name}" AS SELECT * FROM read_parquet([{paths}]{union})')
-        if TRACKS_TABLE in words and TRACKS_TABLE not in snap.tables:
-            con.register(TRACKS_TABLE, _TRACKS_SCHEMA.empty_table())
-
 
 # ---------------------------------------------------------------------- helpers
-
-
-_TRACKS_SCHEMA = pa.schema(
-    [
-        ("log_id", pa.string()),
-        ("track_id", pa.string()),
-        ("category", pa.string()),
-        ("timestamp_ns", pa.int64()),
-        ("is_ego", pa.bool_()),
-        *[(name, pa.float64()) for name in STATE_FIELDS],
-    ]
-)
-
-
-def _now() -> datetime:
-    return datetime.now(UTC)
-
-
-def _sql_string(text: str) -> str:
-    return "'" + text.replace("'", "''") + "'"
-
-
-def _relation_to_arrow(rel: duckdb.DuckDBPyRelation) -> pa.Table:
-    to_table = getattr(rel, "to_arrow_table", None)  # duckdb >= 1.4
-    result = to_table() if to_table is not None else rel.arrow()
-    return result if isinstance(result, pa.Table) else result.read_all()
-
-
-def _log_rows(con: sqlite3.Connection, source_key: str, log_ids: Sequence[str]) -> dict[str, _LogRow]:
-    """Catalog rows (without metadata) of the source's logs and of ``log_ids``."""
-    rows = con.execute(
-        "SELECT log_id, source_key, dir, digest FROM logs "
-        "WHERE source_key = ? OR log_id IN (SELECT value FROM json_each(?))",
-        (source_key, json.dumps(list(log_ids))),
-    )
-    return {r[0]: _LogRow(*r) for r in rows}
-
-
-def _existing_logs(con: sqlite3.Connection, log_ids: Sequence[str]) -> dict[str, str]:
-    """Directory (relative to the root) of each of ``log_ids`` that is in the store."""
-    rows = con.execute(
-        "SELECT log_id, dir FROM logs WHERE log_id IN (SELECT value FROM json_each(?))",
-        (json.dumps(list(log_ids)),),
-    )
-    return {r[0]: r[1] for r in rows}
-
-
-def _delete_log_rows(con: sqlite3.Connection, log_id: str) -> None:
-    con.execute("DELETE FROM log_tables WHERE log_id = ?", (log_id,))
-    con.execute("DELETE FROM logs WHERE log_id = ?", (log_id,))
-
-
-def _table_list(snap: _Snapshot) -> list[str]:
-    return [TRACKS_TABLE, META_TABLE, *(n for n in snap.table_names if n != TRACKS_TABLE)]
-
-
-def _meta_file(meta: LogMeta, digest: str) -> dict[str, Any]:
-    return {**meta.to_json_dict(), "content_digest": digest, "schema_version": SCHEMA_VERSION}
-
-
-def _meta_table(rows: Sequence[_LogRow], snap: _Snapshot) -> pa.Table:
-    """Build the ``meta`` view: one row per log."""
-    metas = [r.meta for r in rows]
-    has: dict[str, list[str]] = {}
-    for name in sorted(snap.tables):
-        if name != TRACKS_TABLE:
-            for log_id in snap.tables[name]:
-                has.setdefault(log_id, []).append(name)
-
-    def col(name: str) -> list[Any]:
-        return [getattr(m, name) for m in metas]
-
-    return pa.table(
-        {
-            "log_id": pa.array(col("log_id"), pa.string()),
-            "source_key": pa.array(col("source_key"), pa.string()),
-            "dataset": pa.array(col("dataset"), pa.string()),
-            "source_hash": pa.array(col("source_hash"), pa.string()),
-            "source_path": pa.array(col("source_path"), pa.string()),
-            "map_dir": pa.array(col("map_dir"), pa.string()),
-            "n_tracks": pa.array(col("n_tracks"), pa.int64()),
-            "n_timestamps": pa.array(col("n_timestamps"), pa.int64()),
-            "n_frames": pa.array(col("n_frames"), pa.int64()),
-            "duration_s": pa.array(col("duration_s"), pa.float64()),
-            "start_timestamp_ns": pa.array(col("start_timestamp_ns"), pa.int64()),
-            "end_timestamp_ns": pa.array(col("end_timestamp_ns"), pa.int64()),
-            "categories": pa.array(
-                [list(m.categories.items()) for m in metas], pa.map_(pa.string(), pa.int64())
-            ),
-            "notes": pa.array([list(m.notes) for m in metas], pa.list_(pa.string())),
-            "tables": pa.array([has.get(m.log_id, []) for m in metas], pa.list_(pa.string())),
-            "ingested_at": pa.array(col("ingested_at"), pa.timestamp("us", tz="UTC")),
-            "ego_pose_offset_m": pa.array(col("ego_pose_offset_m"), pa.float64()),
-        }
-    )
-
-
-def _check_storable(log: Log) -> None:
-    """Refuse logs that the long-table format cannot restore exactly."""
-    if not isinstance(log, Log):
-        raise InvalidLogError(f"expected a Log, got {type(log).__name__}")
-    n, t = log.n_tracks, log.n_timestamps
-    if log.ego_index != 0:
-        raise InvalidLogError(f"log {log.log_id}: the ego must be track 0 (build logs with build_log)")
-    if t == 0 or n == 0:
-        raise InvalidLogError(f"log {log.log_id}: the log is empty")
-    if log.valid.shape != (n, t):
-        raise InvalidLogError(f"log {log.log_id}: valid has shape {log.valid.shape}, expected {(n, t)}")
-    empty_tracks = ~log.valid.any(axis=1)
-    if empty_tracks.any():
-        ids = log.track_ids[empty_tracks][:3].tolist()
-        raise InvalidLogError(f"log {log.log_id}: track(s) {ids} have no valid cell and cannot be stored")
-    empty_times = ~log.valid.any(axis=0)
-    if empty_times.any():
-        ts = log.timestamps_ns[empty_times][:3].tolist()
-        raise InvalidLogError(f"log {log.log_id}: timestamp(s) {ts} have no valid cell and cannot be stored")
-    for name in STATE_FIELDS:
-        values = getattr(log, name)
-        bad = log.valid & ~np.isfinite(values)
-        if bad.any():
-            r, c = (int(i[0]) for i in np.nonzero(bad))
-            raise InvalidLogError(
-                f"log {log.log_id}: {name} is not finite in {int(bad.sum())} valid cell(s), e.g. track "
-                f"{str(log.track_ids[r])!r} at timestamp_ns={int(log.timestamps_ns[c])}"
-            )
-
-
-def _log_digest(log: Log) -> str:
-    """SHA-256 over everything the tracks file stores (arrays at valid cells, ids, categories)."""
-    h = hashlib.sha256()
-    h.update(
-        json.dumps([log.dataset, str(log.map_dir) if log.map_dir else None, log.ego_pose_offset_m]).encode()
-    )
-    h.update(np.ascontiguousarray(log.timestamps_ns, dtype="<i8").tobytes())
-    for names in (log.track_ids, log.categories):
-        h.update("\x1f".join(str(s) for s in names.tolist()).encode())
-        h.update(b"\x1e")
-    h.update(np.packbits(log.valid).tobytes())
-    h.update(np.asarray(log.valid.shape, dtype="<i8").tobytes())
-    for name in STATE_FIELDS:
-        h.update(np.ascontiguousarray(getattr(log, name)[log.valid], dtype="<f8").tobytes())
-    return h.hexdigest()
-
-
-def _log_from_table(table: pa.Table, meta: LogMeta, path: Path) -> Log:
-    """Rebuild a stored log: :meth:`Log.from_arrow`, then the stored track order and metadata."""
-    if "log_id" in table.column_names:
-        table = table.drop_columns(["log_id"])
-    try:
-        log = Log.from_arrow(
-            table,
-            log_id=meta.log_id,
-            source=path,
-            dataset=meta.dataset,
-            map_dir=Path(meta.map_dir) if meta.map_dir else None,
-            source_hash=meta.source_hash,
-            min_track_frames=1,
-        )
-    except LogFormatError as exc:
-        raise StoreError(f"stored log {meta.log_id} is corrupt: {exc}") from None
-    stored_ids = table.column("track_id").to_numpy(zero_copy_only=False).astype(str)
-    uniq, first = np.unique(stored_ids, return_index=True)
-    stored_order = uniq[np.argsort(first)]
-    if not np.array_equal(stored_order, log.track_ids):
-        position = {str(tid): i for i, tid in enumerate(log.track_ids.tolist())}
-        log = log.select_tracks(np.asarray([position[str(tid)] for tid in stored_order], dtype=np.int64))
-    if (log.n_tracks, log.n_timestamps, log.n_frames) != (meta.n_tracks, meta.n_timestamps, meta.n_frames):
-        raise StoreError(f"stored log {meta.log_id} is corrupt: its tracks file disagrees with its metadata")
-    return log.replace(
-        source_path=Path(meta.source_path) if meta.source_path else None,
-        notes=tuple(meta.notes),
-        ego_pose_offset_m=meta.ego_pose_offset_m,
-    )
-
-
-def _with_log_id(table: pa.Table, log_id: str, name: str) -> pa.Table:
-    """``table`` with a leading ``log_id`` string column equal to ``log_id`` everywhere."""
-    if not isinstance(table, pa.Table):
-        raise ValueError(f"table {name!r} must be a pyarrow.Table, got {type(table).__name__}")
-    if "log_id" in table.column_names:
-        column = table.column("log_id")
-        agrees = column.null_count == 0 and (
-            table.num_rows == 0 or bool(pc.all(pc.equal(column.cast(pa.string()), log_id)).as_py())
-        )
-        if not agrees:
-            raise ValueError(f"table {name!r} for log {log_id!r} has a log_id column with other values")
-        table = table.drop_columns(["log_id"])
-    return table.add_column(0, "log_id", pa.repeat(pa.scalar(log_id, pa.string()), table.num_rows))
-
-
-def _write_parquet(table: pa.Table, path: Path) -> None:
-    pq.write_table(table, path, compression=_PARQUET_COMPRESSION)
-    _fsync(path)
-
-
-def _write_json_atomic(path: Path, data: Mapping[str, Any]) -> None:
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
-    try:
-        tmp.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n", encoding="utf-8")
-        _fsync(tmp)
-        os.replace(tmp, path)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            tmp.unlink()
-
-
-def _fsync(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
-def _remove_tree(path: Path) -> None:
-    """Delete a file or directory, ignoring what is already gone (best effort)."""
-    try:
-        if path.is_dir() and not path.is_symlink():
-            shutil.rmtree(path, ignore_errors=True)
-        else:
-            path.unlink(missing_ok=True)
-    except OSError:
-        pass
-
-
-def _tree_size(root: Path) -> int:
-    total = 0
-    for dirpath, _, filenames in os.walk(root):
-        for fname in filenames:
-            with contextlib.suppress(OSError):
-                total += os.stat(os.path.join(dirpath, fname)).st_size
-    return total
-
-
-def _process_alive(pid: int) -> bool:
-    """Whether a process with this id runs on this machine (a staging folder's writer)."""
-    if pid == os.getpid():
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
