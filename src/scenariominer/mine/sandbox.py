@@ -51,6 +51,7 @@ import multiprocessing.connection
 import os
 import signal
 import sys
+import threading
 import time
 import traceback
 from collections.abc import Callable, Collection, Iterator
@@ -561,10 +562,12 @@ def _child_main(
     hd_map: Any,
     description: str,
     postprocess: bool,
+    host_pid: int,
 ) -> None:
     """Entry point of the sandbox child: limit, run, reply with bytes, exit."""
     try:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+        _exit_with_host(host_pid)
         context = LogContext(log, config, hd_map)
         if log.map_dir is not None or hd_map is not None:
             try:
@@ -603,6 +606,26 @@ def _child_main(
             conn.close()
         finally:
             sys.stdout.flush()
+
+
+def _exit_with_host(host_pid: int, period_s: float = 0.2) -> None:
+    """End this child as soon as the host process is gone.
+
+    The child's parent is the fork server, not the host, so the kernel's parent-death signal does
+    not reach it; without this watchdog a busy program would run on until its CPU limit.
+    """
+
+    def watch() -> None:
+        while True:
+            time.sleep(period_s)
+            try:
+                os.kill(host_pid, 0)
+            except ProcessLookupError:
+                os._exit(70)
+            except PermissionError:
+                continue
+
+    threading.Thread(target=watch, daemon=True, name="scenariominer-host-watchdog").start()
 
 
 def _mp_context() -> Any:
@@ -699,7 +722,7 @@ def _start_child(source: str, context: LogContext, description: str, postprocess
     hd_map = context._map_given  # noqa: SLF001 - forward a map given in memory to the child
     process = mp.Process(
         target=_child_main,
-        args=(send_end, source, context.log, context.config, hd_map, description, postprocess),
+        args=(send_end, source, context.log, context.config, hd_map, description, postprocess, os.getpid()),
         daemon=True,
         name="scenariominer-sandbox",
     )
