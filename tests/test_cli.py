@@ -71,3 +71,31 @@ def test_store_check_and_vacuum(tmp_path: Path) -> None:
     assert not orphan.exists()
     result = runner.invoke(app, ["store", "check", "--store", str(tmp_path / "none")])
     assert result.exit_code == 2
+
+
+def test_ingest_report_shows_real_repair_notes_not_placeholders(tmp_path: Path) -> None:
+    from scenariominer.data.adapters.tabular import write_tabular
+    from scenariominer.data.log import build_log
+
+    log = build_log(
+        log_id="short",
+        track_id=["ego", "ego", "ego", "blip"],
+        category=["EGO_VEHICLE", "EGO_VEHICLE", "EGO_VEHICLE", "PEDESTRIAN"],
+        timestamp_ns=[0, 100_000_000, 200_000_000, 100_000_000],
+        fields={
+            "x_m": [0.0, 1.0, 2.0, 5.0],
+            "y_m": [0.0] * 4,
+            "yaw_rad": [0.0] * 4,
+            "length_m": [4.0] * 4,
+            "width_m": [2.0] * 4,
+        },  # fmt: skip
+        ego_track_id="ego",
+        source="<test>",
+        min_track_frames=1,
+    )
+    data = write_tabular([log], tmp_path / "fleet.csv")
+    result = runner.invoke(app, ["ingest", str(data), "--store", str(tmp_path / "s")])
+    assert result.exit_code == 0, result.output
+    flat = " ".join(result.output.split())
+    assert "repaired 1 log(s), e.g. short: dropped 1 track(s) with fewer than 2 frames" in flat
+    assert " N " not in flat

@@ -44,17 +44,19 @@ def render_ingest_report(report: IngestReport) -> None:
     """Print what an ingestion run did, failures first."""
     for failed in report.failed:
         err_console().print(f"[red]failed[/red] {safe(failed.key)}: {safe(failed.error)}", soft_wrap=True)
-    # Repairs are grouped by kind (digits and examples stripped) so a large batch stays readable.
-    kinds: dict[str, list[str]] = {}
+    # Repairs are grouped by kind (numbers and examples ignored) so a large batch stays readable;
+    # each group shows one real note, never a template with placeholders.
+    kinds: dict[str, list[tuple[str, str]]] = {}
     for r in report.sources:
         for note in r.notes:
             log_id, _, text = note.partition(": ")
-            kind = re.sub(r"\(e\.g\..*\)", "", re.sub(r"\d+", "N", text)).strip()
-            kinds.setdefault(kind, []).append(log_id)
-    for kind, logs in sorted(kinds.items()):
+            kind = re.sub(r"\(e\.g\..*\)", "", re.sub(r"\d+", "#", text)).strip()
+            kinds.setdefault(kind, []).append((log_id, text))
+    for _kind, notes in sorted(kinds.items()):
+        log_id, text = notes[0]
+        n_logs = len({lid for lid, _ in notes})
         console().print(
-            f"[yellow]repaired[/yellow] {len(set(logs))} log(s): {safe(kind)} (e.g. {safe(logs[0])})",
-            soft_wrap=True,
+            f"[yellow]repaired[/yellow] {n_logs} log(s), e.g. {safe(log_id)}: {safe(text)}", soft_wrap=True
         )
     fps = report.n_frames_ingested / report.seconds if report.seconds > 0 else 0.0
     console().print(
