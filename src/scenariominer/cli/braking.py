@@ -76,17 +76,13 @@ def analyze(
 ) -> None:
     """Find braking events, describe, measure and classify them with the LLM, and embed them."""
     from scenariominer import api
-    from scenariominer.cli.progress import RichProgress
+    from scenariominer.cli.progress import progress_bar
 
     cfg = load_cfg(config)
     st = api.open_existing_store(store, cfg)
     request = api.AnalyzeRequest(log_ids=log, limit=limit, force=force, categories_file=categories)
-    bar = None if json_out else RichProgress()
-    try:
+    with progress_bar(not json_out) as bar:
         report = api.analyze(st, request, cfg, progress=bar)
-    finally:
-        if bar is not None:
-            bar.close()
     if json_out:
         console().print_json(report.to_json())
     else:

@@ -78,16 +78,12 @@ def ingest(
 ) -> None:
     """Ingest driving logs into the scenario store (incremental, atomic per log)."""
     from scenariominer import api
-    from scenariominer.cli.progress import RichProgress
+    from scenariominer.cli.progress import progress_bar
 
     cfg = load_cfg(config)
     st = api.open_store(store, cfg)
-    bar = None if json_out else RichProgress()
-    try:
+    with progress_bar(not json_out) as bar:
         report = api.ingest(paths, st, cfg, force=force, progress=bar)
-    finally:
-        if bar is not None:
-            bar.close()
     if json_out:
         console().print_json(report.to_json())
     else:
@@ -124,13 +120,10 @@ def synth(
     from rich.table import Table
 
     from scenariominer import api
-    from scenariominer.cli.progress import RichProgress
+    from scenariominer.cli.progress import progress_bar
 
-    bar = RichProgress()
-    try:
+    with progress_bar() as bar:
         result = api.synth(out, n, seed=seed, categories=category or None, progress=bar)
-    finally:
-        bar.close()
     counts: dict[str, int] = {}
     for label in result.labels:
         counts[str(label.scenario_category)] = counts.get(str(label.scenario_category), 0) + 1

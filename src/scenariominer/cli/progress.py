@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+from scenariominer.cli._common import settings
 from scenariominer.cli.text import plain
 
 if TYPE_CHECKING:
@@ -60,3 +63,14 @@ class RichProgress:
     def close(self) -> None:
         """Stop rendering."""
         self._progress.stop()
+
+
+@contextlib.contextmanager
+def progress_bar(enabled: bool = True) -> Iterator[RichProgress | None]:
+    """A :class:`RichProgress` for the duration of a command (``None`` when disabled, e.g. ``--json``)."""
+    bar = RichProgress() if enabled and not settings.quiet else None
+    try:
+        yield bar
+    finally:
+        if bar is not None:
+            bar.close()
