@@ -15,11 +15,11 @@ from scenariominer.mine.context import LogContext
 from scenariominer.mine.sandbox import (
     ErrorKind,
     ProgramError,
-    _exit_error,
     check_program,
     run_program,
     run_trusted_program,
 )
+from scenariominer.mine.sandbox.process import _exit_error
 
 GOOD = """
 vehicles = get_objects_of_category(log_dir, category='VEHICLE')
@@ -29,6 +29,7 @@ output_scenario(result, description, log_dir, output_dir)
 """
 
 LIMITS = MiningConfig(sandbox=SandboxConfig(timeout_s=1.5, memory_mb=512, cpu_s=20))
+MEMORY_LIMITS = MiningConfig(sandbox=SandboxConfig(timeout_s=30.0, memory_mb=512, cpu_s=20))
 
 
 @pytest.fixture(scope="module")
@@ -170,9 +171,12 @@ STOPPED = {
 def test_hostile_program_is_stopped_with_the_right_kind(ctx: LogContext, name: str) -> None:
     source, kind = STOPPED[name]
     assert check_program(source) is None  # these pass the static checks
-    result = run_program(source, ctx)
+    # A program that must hit the memory limit gets a generous time limit, so a slow (loaded)
+    # machine cannot make the timeout fire first: only the limit under test can stop it.
+    config = MEMORY_LIMITS if kind is ErrorKind.MEMORY else LIMITS
+    result = run_program(source, ctx, config=config)
     assert not result.ok and result.error is not None and result.error.kind is kind, result.error
-    assert result.elapsed_s < LIMITS.sandbox.timeout_s + 3.0
+    assert result.elapsed_s < config.sandbox.timeout_s + 3.0
 
 
 def test_runtime_errors_point_at_the_failing_line(ctx: LogContext) -> None:
