@@ -9,7 +9,6 @@ import pyarrow.feather as feather
 import pytest
 
 from scenariominer import api
-from scenariominer.data.log import LogFormatError
 
 
 @pytest.fixture(scope="module")
@@ -87,10 +86,10 @@ def test_a_log_that_breaks_later_keeps_its_previous_version(tmp_path: Path, synt
     assert after.n_frames == before.n_frames
 
 
-def test_unknown_paths_are_a_clear_error(tmp_path: Path) -> None:
+def test_unknown_paths_are_reported_per_path_with_a_clear_error(tmp_path: Path) -> None:
     store = api.open_store(tmp_path / "store")
-    with pytest.raises(LogFormatError, match="no such file"):
-        api.ingest([tmp_path / "missing"], store)
     (tmp_path / "empty").mkdir()
-    with pytest.raises(LogFormatError, match="not a recognised log"):
-        api.ingest([tmp_path / "empty"], store)
+    report = api.ingest([tmp_path / "missing", tmp_path / "empty"], store)
+    errors = {Path(r.key).name: r.error for r in report.failed}
+    assert "no such file" in errors["missing"] and "not a recognised log" in errors["empty"]
+    assert report.n_ingested == 0 and store.log_ids() == []

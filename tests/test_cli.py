@@ -29,7 +29,7 @@ def test_synth_ingest_info_round_trip(tmp_path: Path) -> None:
 
 def test_ingest_of_a_missing_path_names_it(tmp_path: Path) -> None:
     result = runner.invoke(app, ["ingest", str(tmp_path / "nope"), "--store", str(tmp_path / "s")])
-    assert result.exit_code == 2  # the user's to fix: one line, no traceback
+    assert result.exit_code == 1  # reported as a failed source, not a crash
     assert "nope" in result.output and "no such file" in result.output
     assert "Traceback" not in result.output
 
@@ -99,3 +99,42 @@ def test_ingest_report_shows_real_repair_notes_not_placeholders(tmp_path: Path) 
     flat = " ".join(result.output.split())
     assert "repaired 1 log(s), e.g. short: dropped 1 track(s) with fewer than 2 frames" in flat
     assert " N " not in flat
+
+
+def test_bad_paths_and_special_files_fail_alone_and_the_batch_goes_on(tmp_path: Path) -> None:
+    import os
+
+    good = tmp_path / "synth"
+    assert runner.invoke(app, ["synth", "--out", str(good), "--n", "2"]).exit_code == 0
+    loop = tmp_path / "loop"
+    os.symlink(loop, loop)  # a symlink loop
+    fifo_log = tmp_path / "fifo_log"
+    first = sorted(p for p in good.iterdir() if p.is_dir())[0]
+    fifo_log.mkdir()
+    for f in first.iterdir():  # a copy of a real log whose annotation file is a FIFO
+        if f.name != "annotations_with_ego.feather":
+            os.symlink(f, fifo_log / f.name)
+    os.mkfifo(fifo_log / "annotations_with_ego.feather")
+    store = tmp_path / "s"
+    args = ["ingest", str(tmp_path / "missing"), str(loop), str(fifo_log), str(good), "--store", str(store)]
+    result = runner.invoke(app, [*args, "--json"])
+    assert result.exit_code == 1
+    report = json.loads(result.stdout)
+    failed = {Path(r["key"]).name: r["error"] for r in report["failed"]}
+    assert set(failed) == {"missing", "loop", "fifo_log"}
+    assert "no such file" in failed["missing"] and "not a recognised log" in failed["fifo_log"]
+    assert report["store"]["n_logs"] == 2  # the good logs landed
+
+
+def test_a_fifo_among_a_sources_files_is_refused_without_being_opened(tmp_path: Path) -> None:
+    import os
+
+    import pytest
+
+    from scenariominer.data.log import LogFormatError
+    from scenariominer.data.sources import LogSource
+
+    fifo = tmp_path / "01_tracks.csv"
+    os.mkfifo(fifo)  # opening it for reading would block forever
+    with pytest.raises(LogFormatError, match="not a regular file"):
+        LogSource(str(tmp_path), "highd", tmp_path, (fifo,)).content_hash()

@@ -109,9 +109,9 @@ def ingest(
         readers: log readers to try (defaults to the built-in adapters).
         progress: progress sink (a Rich bar in the CLI).
 
-    Raises:
-        LogFormatError: a path does not exist or holds nothing recognisable. Problems inside
-            individual sources are reported in the result instead.
+    Bad input never aborts the batch: a missing path, a path with nothing recognisable, and a source
+    that cannot be read or fails validation are reported in ``failed`` with the cause, and every
+    other source still lands.
     """
     config = config or load_config()
     t0 = time.perf_counter()

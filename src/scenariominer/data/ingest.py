@@ -114,14 +114,25 @@ def ingest_sources(
 ) -> list[SourceResult]:
     """Run the ingestion loop over every source found under ``paths``.
 
-    Raises:
-        LogFormatError: a path does not exist or holds nothing recognisable. Problems inside
-            individual sources are reported in the results instead.
+    Never raises for bad input: a path that does not exist or holds nothing recognisable, and a
+    source that cannot be read or fails validation, each become a ``failed`` result naming the
+    cause, and the other sources are still ingested.
     """
     progress = progress or NullProgress()
-    sources: list[LogSource] = discover_sources(paths, readers)
-    fingerprint = pipeline_fingerprint(config)
     results: list[SourceResult] = []
+    sources: list[LogSource] = []
+    seen: set[str] = set()
+    for path in paths:
+        # Discovery fails per path (missing, unreadable, a symlink loop, nothing recognisable): the
+        # path is reported as a failed source and the rest of the batch goes on.
+        try:
+            found = [s for s in discover_sources([path], readers) if s.key not in seen]
+        except (LogFormatError, OSError) as exc:
+            results.append(SourceResult(str(path), "-", "failed", error=str(exc)))
+            continue
+        seen.update(s.key for s in found)
+        sources += found
+    fingerprint = pipeline_fingerprint(config)
     with step(progress, "ingest", len(sources)):
         for source in sources:
             result = _ingest_one(source, sink, config, fingerprint, force, readers)

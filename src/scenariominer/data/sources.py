@@ -8,6 +8,7 @@ whether the logs read from them must be re-ingested. One source yields one or mo
 from __future__ import annotations
 
 import hashlib
+import stat
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,6 +42,9 @@ class LogSource:
         for f in sorted(self.files):
             h.update(f.name.encode())
             try:
+                if not stat.S_ISREG(f.stat().st_mode):
+                    # A FIFO or a device would block or never end: refused without opening it.
+                    raise LogFormatError(f, "not a regular file (a FIFO, device or socket); refused")
                 with f.open("rb") as fh:
                     while chunk := fh.read(_HASH_CHUNK):
                         h.update(chunk)
