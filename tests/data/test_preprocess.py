@@ -124,3 +124,19 @@ def test_preprocess_config_is_respected() -> None:
     wide = preprocess(_ego_log(x), PreprocessConfig(smooth_window_s=3.0))
     narrow = preprocess(_ego_log(x), PreprocessConfig(smooth_window_s=0.5))
     assert wide.ax_mps2[0].min() > narrow.ax_mps2[0].min()
+
+
+@pytest.mark.parametrize("length", [5, 6, 11, 12, 37, 150])
+@pytest.mark.parametrize(("window", "order"), [(5, 2), (5, 3), (11, 3), (11, 4)])
+@pytest.mark.parametrize("deriv", [0, 1, 2])
+def test_vectorised_savitzky_golay_matches_scipy(length: int, window: int, order: int, deriv: int) -> None:
+    from scipy.signal import savgol_filter
+
+    from scenariominer.data.preprocess import savgol_rows
+
+    if window > length:
+        pytest.skip("window longer than the span")
+    rng = np.random.default_rng(length * 100 + window * 10 + deriv)
+    block = np.cumsum(rng.normal(size=(4, length)), axis=1)
+    expected = savgol_filter(block, window, order, deriv=deriv, delta=0.1, axis=1, mode="interp")
+    np.testing.assert_allclose(savgol_rows(block, window, order, deriv, 0.1), expected, rtol=1e-9, atol=1e-7)

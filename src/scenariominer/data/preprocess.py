@@ -14,6 +14,7 @@ included, is a cached linear operator), never a loop over frames.
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -82,33 +83,51 @@ def window_samples(window_s: float, dt_s: float, length: int, polyorder: int) ->
     return w if w > polyorder else 0
 
 
-#: Spans longer than this are filtered directly instead of through a cached (L, L) operator.
-_MAX_OPERATOR_LENGTH = 1500
+@lru_cache(maxsize=256)
+def _sg_weights(
+    window: int, order: int, deriv: int, delta_s: float
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Savitzky-Golay weights: interior ``(W,)``, left edge ``(W//2, W)``, right edge ``(W//2, W)``.
 
-
-@lru_cache(maxsize=512)
-def _sg_operator(length: int, window: int, order: int, deriv: int, delta_s: float) -> FloatArray:
-    """``(L, L)`` matrix ``M`` with ``savgol_filter(x) == M @ x`` for any ``x`` of length ``L``.
-
-    The filter (including its polynomial edge fit) is linear in ``x``, so filtering the identity
-    gives the operator; it is built once per (length, window, order, derivative) and reused.
+    A Savitzky-Golay value is the ``deriv``-th derivative, at one sample, of the least-squares
+    polynomial of degree ``order`` through ``window`` samples, so every output is a fixed linear
+    combination of the window's samples. Interior samples use the centred window; the first and
+    last ``window // 2`` samples use the first and last full window evaluated off-centre (the
+    polynomial edge fit of ``scipy.signal.savgol_filter(mode="interp")``, which tests compare
+    against). Derivatives are per second for samples ``delta_s`` apart.
     """
-    from scipy.signal import savgol_filter  # scipy.signal takes ~1 s to import: only when smoothing
+    t = np.arange(window, dtype=np.float64)
+    fit = np.linalg.pinv(np.vander(t, order + 1, increasing=True))  # (order+1, W): samples -> coefficients
+    powers = np.arange(order + 1)
+    # d^deriv/dt^deriv of t^k is k!/(k-deriv)! t^(k-deriv) for k >= deriv.
+    falling = np.array([math.perm(int(k), deriv) if k >= deriv else 0 for k in powers], dtype=np.float64)
+    exponents = np.clip(powers - deriv, 0, None)
 
-    eye = np.eye(length)
-    op: FloatArray = savgol_filter(eye, window, order, deriv=deriv, delta=delta_s, axis=0)
-    return op
+    def at(points: FloatArray) -> FloatArray:
+        basis = falling[None, :] * points[:, None] ** exponents[None, :]
+        weights: FloatArray = basis @ fit / delta_s**deriv
+        return weights
+
+    half = window // 2
+    centre = at(np.array([float(half)]))[0]
+    return centre, at(t[:half]), at(t[window - half :])
 
 
-def _filter_block(block: FloatArray, window: int, order: int, deriv: int, delta_s: float) -> FloatArray:
-    """Savitzky-Golay filter each row of ``block`` ``(K, L)``."""
-    length = block.shape[1]
-    if length > _MAX_OPERATOR_LENGTH:
-        from scipy.signal import savgol_filter
+def savgol_rows(block: FloatArray, window: int, order: int, deriv: int, delta_s: float) -> FloatArray:
+    """Savitzky-Golay filter (or derivative) of each row of ``block`` ``(K, L)``, ``L >= window``.
 
-        out: FloatArray = savgol_filter(block, window, order, deriv=deriv, delta=delta_s, axis=1)
-        return out
-    return block @ _sg_operator(length, window, order, deriv, delta_s).T
+    One vectorised pass: the interior through a sliding-window product, the edges through the
+    fitted edge weights; no per-row or per-sample Python loop.
+    """
+    centre, left, right = _sg_weights(window, order, deriv, delta_s)
+    half = window // 2
+    out = np.empty_like(block, dtype=np.float64)
+    out[:, half : block.shape[1] - half] = (
+        np.lib.stride_tricks.sliding_window_view(block, window, axis=1) @ centre
+    )
+    out[:, :half] = block[:, :window] @ left.T
+    out[:, block.shape[1] - half :] = block[:, -window:] @ right.T
+    return out
 
 
 def smooth(log: Log, cfg: PreprocessConfig) -> Log:
@@ -147,15 +166,15 @@ def smooth(log: Log, cfg: PreprocessConfig) -> Log:
         order = min(cfg.smooth_polyorder, w - 1)
         for src, pos, vel, acc in ((log.x_m, x, vx, ax), (log.y_m, y, vy, ay)):
             block = src[rr, cols]
-            pos[rr, cols] = _filter_block(block, w, order, 0, dt_s)
-            v = _filter_block(block, w, order, 1, dt_s)
+            pos[rr, cols] = savgol_rows(block, w, order, 0, dt_s)
+            v = savgol_rows(block, w, order, 1, dt_s)
             vel[rr, cols] = v
             acc[rr, cols] = (
-                _filter_block(block, w, order, 2, dt_s) if order >= 2 else np.gradient(v, dt_s, axis=1)
+                savgol_rows(block, w, order, 2, dt_s) if order >= 2 else np.gradient(v, dt_s, axis=1)
             )
         if cfg.smooth_yaw:
             unwrapped = np.unwrap(log.yaw_rad[rr, cols], axis=1)
-            yaw[rr, cols] = wrap_angle(_filter_block(unwrapped, w, order, 0, dt_s))
+            yaw[rr, cols] = wrap_angle(savgol_rows(unwrapped, w, order, 0, dt_s))
 
     if rough.any():
         rows_all = np.flatnonzero(rough.any(axis=1))
