@@ -177,3 +177,62 @@ def test_time_derivative_is_nan_aware_and_one_sided_at_span_ends() -> None:
     d = time_derivative(v, t_s)
     assert np.isnan(d[0, 0]) and np.isnan(d[0, 4])
     np.testing.assert_allclose(d[0, 1:4], 2.0)
+
+
+def _rows_with(**overrides: list[float]) -> dict[str, list[float]]:
+    fields = {"x_m": [0.0, 1.0, 2.0, 3.0], "y_m": [0.0] * 4, "yaw_rad": [0.0] * 4, "length_m": [4.0] * 4,
+              "width_m": [2.0] * 4}  # fmt: skip
+    fields.update(overrides)
+    return fields
+
+
+@pytest.mark.parametrize(
+    ("overrides", "note"),
+    [
+        ({"x_m": [0.0, 1.0, 1e300, 3.0]}, "dropped 1 row(s) with a coordinate beyond 1e+07 m"),
+        ({"y_m": [0.0, -2e7, 0.0, 0.0]}, "dropped 1 row(s) with a coordinate beyond 1e+07 m"),
+    ],
+)
+def test_implausible_rows_are_dropped_with_a_stated_repair(
+    overrides: dict[str, list[float]], note: str
+) -> None:
+    log = build_log(
+        log_id="L",
+        track_id=["ego"] * 4,
+        category=["EGO_VEHICLE"] * 4,
+        timestamp_ns=[0, 100_000_000, 200_000_000, 300_000_000],
+        fields=_rows_with(**overrides),
+        ego_track_id="ego",
+        source="bad.csv",
+    )
+    assert any(note in n for n in log.notes), log.notes
+    assert log.n_frames == 3 and np.all(np.abs(log.x_m[log.valid]) < 1e7)
+
+
+def test_wrapped_unsigned_timestamps_are_an_error() -> None:
+    ts = np.array([0, 100, 2**64 - 100], dtype=np.uint64)  # the last one wrapped below zero
+    with pytest.raises(LogFormatError, match="outside the int64 range"):
+        build_log(
+            log_id="L",
+            track_id=["ego"] * 3,
+            category=["EGO_VEHICLE"] * 3,
+            timestamp_ns=ts,
+            fields={k: v[:3] for k, v in _rows_with().items()},
+            ego_track_id="ego",
+            source="bad.csv",
+        )
+
+
+def test_zero_or_negative_sizes_are_repaired_with_a_note() -> None:
+    log = build_log(
+        log_id="L",
+        track_id=["ego"] * 4,
+        category=["EGO_VEHICLE"] * 4,
+        timestamp_ns=[0, 100_000_000, 200_000_000, 300_000_000],
+        fields=_rows_with(length_m=[4.0, 0.0, 4.0, 4.0], width_m=[2.0, 2.0, -2.0, 2.0]),
+        ego_track_id="ego",
+        source="bad.csv",
+    )
+    assert "set length_m of 1 row(s) from zero or negative to 0.1 m" in log.notes
+    assert "set width_m of 1 row(s) from zero or negative to 0.1 m" in log.notes
+    assert log.n_frames == 4 and log.length_m[0, 1] == 0.1 and log.width_m[0, 2] == 0.1

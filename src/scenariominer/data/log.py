@@ -54,6 +54,11 @@ STATE_FIELDS: tuple[str, ...] = (
 #: Fields an adapter must supply; velocities and accelerations are derived when absent.
 REQUIRED_FIELDS: tuple[str, ...] = ("x_m", "y_m", "yaw_rad", "length_m", "width_m")
 
+#: Largest plausible |x| or |y| (metres; 10,000 km): rows beyond are dropped as corrupt.
+MAX_COORDINATE_M = 1e7
+#: A zero or negative box length or width (no extent recorded, or a sign error) becomes this (metres).
+MIN_BOX_SIZE_M = 0.1
+
 
 class LogFormatError(_errors.DataError):
     """A log cannot be read or is malformed; the message names the source and the problem.
@@ -281,7 +286,10 @@ def build_log(
       (same track and timestamp, different values) are errors naming ``source``;
     * unsorted rows are sorted (no information is lost);
     * exact duplicate rows are collapsed;
-    * rows with NaN/inf position, yaw or size are dropped (preprocessing interpolates the gap);
+    * rows with NaN/inf position, yaw or size, or a coordinate beyond :data:`MAX_COORDINATE_M`, are
+      dropped (preprocessing interpolates the gap); a zero or negative length or width becomes
+      :data:`MIN_BOX_SIZE_M`;
+    * timestamps outside the int64 range (e.g. a wrapped unsigned value) are an error;
     * tracks with fewer than ``min_track_frames`` observations are dropped (a one-frame track
       has no motion; the ego is never dropped, a one-frame ego is an error);
     * unknown categories are an error unless ``category_aliases`` maps them.
@@ -319,6 +327,11 @@ def build_log(
         raise LogFormatError(source, f"timestamps are not numeric ({exc})") from None
     if not np.all(np.isfinite(ts)):
         raise LogFormatError(source, f"{int((~np.isfinite(ts)).sum())} row(s) have a missing/NaN timestamp")
+    if np.any(np.abs(ts) >= 2.0**63):
+        bad = float(ts[np.abs(ts) >= 2.0**63][0])
+        raise LogFormatError(
+            source, f"timestamp {bad:.0f} ns is outside the int64 range (an unsigned value that wrapped?)"
+        )
     ts_i = np.asarray(timestamp_ns).astype(np.int64)
     cols: dict[str, NDArray[np.float64]] = {}
     for name, values in fields.items():
@@ -358,17 +371,31 @@ def build_log(
         raise LogFormatError(source, f"ego track {ego_track_id!r} does not occur in the data")
     cat[tid == ego_track_id] = EGO_CATEGORY
 
-    # Drop rows whose geometry is not finite (documented repair).
-    geom = np.ones(m, dtype=bool)
+    # Drop rows whose geometry is unusable (documented repair; preprocessing interpolates the gap).
+    finite = np.ones(m, dtype=bool)
     for name in ("x_m", "y_m", "yaw_rad", "length_m", "width_m"):
-        geom &= np.isfinite(cols[name])
+        finite &= np.isfinite(cols[name])
+    with np.errstate(invalid="ignore"):
+        far = finite & ((np.abs(cols["x_m"]) > MAX_COORDINATE_M) | (np.abs(cols["y_m"]) > MAX_COORDINATE_M))
+        for name in ("length_m", "width_m"):
+            flat = finite & (cols[name] <= 0)
+            if flat.any():
+                notes.append(
+                    f"set {name} of {int(flat.sum())} row(s) from zero or negative to {MIN_BOX_SIZE_M} m"
+                )
+                cols[name] = np.where(flat, MIN_BOX_SIZE_M, cols[name])
+    geom = finite & ~far
     if not geom.all():
-        bad = int((~geom).sum())
-        notes.append(f"dropped {bad} row(s) with NaN/inf position, yaw or size (gaps are interpolated)")
+        for count, what in (
+            (int((~finite).sum()), "NaN/inf position, yaw or size"),
+            (int(far.sum()), f"a coordinate beyond {MAX_COORDINATE_M:.0e} m"),
+        ):
+            if count:
+                notes.append(f"dropped {count} row(s) with {what} (gaps are interpolated)")
         tid, cat, ts_i = tid[geom], cat[geom], ts_i[geom]
         cols = {k: v[geom] for k, v in cols.items()}
         if tid.size == 0:
-            raise LogFormatError(source, "every row has NaN/inf position, yaw or size")
+            raise LogFormatError(source, "no row has a usable position, yaw and size")
 
     # Sort by (track, time); detect duplicates.
     order = np.lexsort((ts_i, tid))
