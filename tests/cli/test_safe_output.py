@@ -99,3 +99,15 @@ def test_debug_shows_the_traceback_and_internal_errors_say_so(
     result = runner.invoke(app, ["--debug", "info", "--store", str(tmp_path / "s")])
     settings.debug = False
     assert isinstance(result.exception, ZeroDivisionError)
+
+
+def test_quiet_prints_nothing_but_errors(tmp_path: Path) -> None:
+    from scenariominer.store import ScenarioStore
+
+    ScenarioStore.open(tmp_path / "s", create=True)
+    loud = runner.invoke(app, ["info", "--store", str(tmp_path / "s")])
+    quiet = runner.invoke(app, ["--quiet", "info", "--store", str(tmp_path / "s")])
+    again = runner.invoke(app, ["info", "--store", str(tmp_path / "s")])
+    assert "logs" in loud.output and quiet.output == "" and "logs" in again.output
+    failing = runner.invoke(app, ["--quiet", "info", "--store", str(tmp_path / "none")])
+    assert failing.exit_code == 2 and "error" in failing.output

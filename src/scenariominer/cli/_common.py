@@ -62,7 +62,8 @@ def console() -> Console:
     if "out" not in _consoles:
         from rich.console import Console
 
-        _consoles["out"] = Console(quiet=settings.quiet)
+        _consoles["out"] = Console()
+    _consoles["out"].quiet = settings.quiet  # follows the current command's --quiet
     return _consoles["out"]
 
 
