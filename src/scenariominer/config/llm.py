@@ -125,8 +125,14 @@ class LLMConfig:
             embedded model always runs one call at a time (llama.cpp is not thread-safe).
         cache: keep every answer on disk, keyed by backend, model, messages, schema and
             parameters, so a re-run is free and reproducible.
-        cache_dir: cache directory (answers database, assembled model file); empty means the
-            per-user cache directory (``platformdirs.user_cache_dir("scenariominer")/llm``).
+        cache_dir: cache directory (answers database, assembled model file, prompt-prefix
+            states); empty means the per-user cache directory
+            (``platformdirs.user_cache_dir("scenariominer")/llm``).
+        prefix_cache: keep the evaluated state of each long system prompt of the embedded model on
+            disk (``cache_dir/prefix-states``), so a new process does not evaluate it again
+            (about 28 kB per token with the bundled model: 125 MB for the mining prompt).
+        prefix_cache_min_tokens: system prompts shorter than this are not persisted.
+        prefix_cache_max_mb: size bound of the prefix states (least recently used go first).
     """
 
     backend: ChatBackendName = ChatBackendName.LLAMACPP
@@ -150,9 +156,20 @@ class LLMConfig:
     max_concurrency: int = 4
     cache: bool = True
     cache_dir: str = ""
+    prefix_cache: bool = True
+    prefix_cache_min_tokens: int = 256
+    prefix_cache_max_mb: int = 4096
 
     def __post_init__(self) -> None:
         _enum_field(self, "backend", ChatBackendName)
+        _require(
+            self.prefix_cache_min_tokens >= 1,
+            f"llm.prefix_cache_min_tokens must be >= 1, got {self.prefix_cache_min_tokens}",
+        )
+        _require(
+            self.prefix_cache_max_mb >= 0,
+            f"llm.prefix_cache_max_mb must be >= 0, got {self.prefix_cache_max_mb}",
+        )
         _enum_field(self, "structured_mode", StructuredMode)
         _require(self.temperature >= 0.0, f"llm.temperature must be >= 0, got {self.temperature}")
         _require(0.0 < self.top_p <= 1.0, f"llm.top_p must be in (0, 1], got {self.top_p}")

@@ -206,6 +206,9 @@ class Completion:
         latency_s: wall-clock seconds of the call (of the original call when served from cache).
         finish_reason: why generation stopped (``"stop"``, ``"length"``, ...; ``""`` if unknown).
         cached: whether this answer came from the on-disk cache.
+        prompt_eval_s: seconds the backend spent evaluating prompt tokens (0 if it did not say).
+        reused_prompt_tokens: prompt tokens taken from an already evaluated prefix (in memory or
+            restored from disk) instead of being evaluated.
     """
 
     text: str
@@ -214,6 +217,8 @@ class Completion:
     latency_s: float = 0.0
     finish_reason: str = ""
     cached: bool = False
+    prompt_eval_s: float = 0.0
+    reused_prompt_tokens: int = 0
 
     def to_json(self) -> str:
         """Serialise for the cache (``cached`` is not stored)."""
@@ -232,6 +237,8 @@ class Completion:
             latency_s=float(d.get("latency_s", 0.0)),
             finish_reason=str(d.get("finish_reason", "")),
             cached=cached,
+            prompt_eval_s=float(d.get("prompt_eval_s", 0.0)),
+            reused_prompt_tokens=int(d.get("reused_prompt_tokens", 0)),
         )
 
 

@@ -16,6 +16,7 @@ from scenariominer.llm.embeddings import (
 from scenariominer.llm.llamacpp import LlamaCppBackend
 from scenariominer.llm.model_files import DEFAULT_MODEL, resolve_model_file
 from scenariominer.llm.openai_compat import OpenAICompatBackend, OpenAIHTTP, resolve_api_key
+from scenariominer.llm.prefix_cache import PREFIX_DIRNAME
 from scenariominer.llm.usage import UsageCounter
 
 __all__ = ["generation_params", "make_chat_backend", "make_chat_client", "make_embedder"]
@@ -60,8 +61,16 @@ def make_chat_backend(config: Config | LLMConfig, *, verify_model: bool = False)
             label = model_file.path.stem
         elif not cfg.model_path:
             label = DEFAULT_MODEL.name
+        cache_dir = resolve_cache_dir(cfg.cache_dir)
         return LlamaCppBackend(
-            model_file, model_name=label, n_ctx=cfg.n_ctx, n_threads=cfg.n_threads, seed=cfg.seed
+            model_file,
+            model_name=label,
+            n_ctx=cfg.n_ctx,
+            n_threads=cfg.n_threads,
+            seed=cfg.seed,
+            prefix_dir=cache_dir / PREFIX_DIRNAME if cfg.prefix_cache else None,
+            prefix_min_tokens=cfg.prefix_cache_min_tokens,
+            prefix_max_bytes=cfg.prefix_cache_max_mb << 20,
         )
     http = OpenAIHTTP(
         cfg.base_url,
