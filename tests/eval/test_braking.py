@@ -86,16 +86,17 @@ def test_keyident_scores() -> None:
 
 def test_classification_scores_side_by_side() -> None:
     cats = ["cut_in", "left_oppo", "right_ped", "obj_crossing"]
-    rows = classification_scores(LABELS, _predictions(3), _predictions(2), cats)
+    rows = classification_scores(LABELS, {"rules": _predictions(3), "llm": _predictions(2)}, cats)
     by = {r.category: r for r in rows}
+    llm = {c: r.scores["llm"] for c, r in by.items()}
     assert [r.category for r in rows] == [*cats, "overall"]
-    assert (by["cut_in"].llm.tp, by["cut_in"].llm.fp, by["cut_in"].llm.fn) == (1, 1, 0)
+    assert (llm["cut_in"].tp, llm["cut_in"].fp, llm["cut_in"].fn) == (1, 1, 0)
     assert (by["cut_in"].baseline.tp, by["cut_in"].baseline.fp, by["cut_in"].baseline.fn) == (0, 2, 1)
-    assert (by["obj_crossing"].llm.tp, by["obj_crossing"].llm.fp, by["obj_crossing"].llm.fn) == (0, 1, 1)
-    assert math.isnan(by["left_oppo"].llm.precision) and math.isnan(by["left_oppo"].llm.recall)
-    assert by["overall"].llm.precision == pytest.approx(1 / 3)
-    assert by["overall"].llm.recall == pytest.approx(1 / 2)
-    assert by["overall"].llm.f1 == pytest.approx(0.4)
+    assert (llm["obj_crossing"].tp, llm["obj_crossing"].fp, llm["obj_crossing"].fn) == (0, 1, 1)
+    assert math.isnan(llm["left_oppo"].precision) and math.isnan(llm["left_oppo"].recall)
+    assert by["overall"].scores["llm"].precision == pytest.approx(1 / 3)
+    assert by["overall"].scores["llm"].recall == pytest.approx(1 / 2)
+    assert by["overall"].scores["llm"].f1 == pytest.approx(0.4)
     assert by["overall"].baseline.precision == 0.0 and by["overall"].baseline.f1 == 0.0
 
 
@@ -165,7 +166,7 @@ def test_evaluate_store(tmp_path: Path) -> None:
     assert ev.llm_status == {"ok": 5}
     assert ev.keyident_overall.precision == pytest.approx(0.5)
     overall = ev.classification[-1]
-    assert (overall.llm.tp, overall.llm.fp, overall.llm.fn) == (1, 2, 1)
+    assert (overall.scores["llm"].tp, overall.scores["llm"].fp, overall.scores["llm"].fn) == (1, 2, 1)
     assert [r.category for r in ev.retrieval] == ["lead_brake"]
     lead = ev.retrieval[0]
     assert lead.precision_at_k == pytest.approx(0.1)  # 1 relevant pair among 10 slots

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from scenariominer.config.tags import TagConfig
 from scenariominer.explain.categories import CategoryDef, CategorySet
-from scenariominer.explain.prompts import PROMPT_VERSION, build_messages, system_prompt
+from scenariominer.explain.prompts import JUDGE_PROMPT_VERSION, build_messages, system_prompt
 from scenariominer.llm.base import Role
 
 
@@ -29,7 +29,7 @@ def test_a_new_prompt_version_forces_re_analysis(monkeypatch) -> None:  # type: 
 
     cats, embedder = CategorySet.default(), HashingEmbedder(16)
     before = pipeline.analysis_fingerprint(Config(), cats, None, embedder)
-    monkeypatch.setattr(pipeline, "PROMPT_VERSION", PROMPT_VERSION + "-next")
+    monkeypatch.setattr(pipeline, "JUDGE_PROMPT_VERSION", JUDGE_PROMPT_VERSION + "-next")
     assert pipeline.analysis_fingerprint(Config(), cats, None, embedder) != before
 
 

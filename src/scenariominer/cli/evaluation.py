@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, load_cfg
+from scenariominer.cli.progress import progress_bar
 from scenariominer.cli.text import safe
 
 if TYPE_CHECKING:
@@ -46,22 +47,26 @@ def render_braking(ev: BrakingEvaluation) -> None:
             style="bold" if overall else None,
         )
     out.print(t4)
-    t5 = Table(title="Known categories, baseline / LLM (Table V)", title_justify="left")
+    judges = " / ".join(ev.judges)
+    t5 = Table(title=f"Known categories, {safe(judges)} (Table V)", title_justify="left")
     for col in ("category", "precision", "recall", "F1", "TP", "FP", "FN"):
         t5.add_column(col, justify="left" if col == "category" else "right", no_wrap=True)
     for c in ev.classification:
-        b, m = c.baseline, c.llm
+        cols = [c.scores[j] for j in ev.judges]
         t5.add_row(
             safe(c.category),
-            f"{_num(b.precision)} / {_num(m.precision)}",
-            f"{_num(b.recall)} / {_num(m.recall)}",
-            f"{_num(b.f1)} / {_num(m.f1)}",
-            f"{b.tp} / {m.tp}",
-            f"{b.fp} / {m.fp}",
-            f"{b.fn} / {m.fn}",
+            " / ".join(_num(p.precision) for p in cols),
+            " / ".join(_num(p.recall) for p in cols),
+            " / ".join(_num(p.f1) for p in cols),
+            " / ".join(str(p.tp) for p in cols),
+            " / ".join(str(p.fp) for p in cols),
+            " / ".join(str(p.fn) for p in cols),
             style="bold" if c.category == "overall" else None,
         )
     out.print(t5)
+    if ev.pedestrians_as_obj_crossing:
+        peds = ", ".join(f"{safe(j)} {n}/{of}" for j, (n, of) in ev.pedestrians_as_obj_crossing.items())
+        out.print(f"pedestrian guests classed obj_crossing: {peds}")
     if ev.retrieval:
         k_p, k_r = ev.retrieval[0].k_precision, ev.retrieval[0].k_recall
         t6 = Table(title=f"Free-text retrieval, {safe(ev.embedding_model)} (Table VI)", title_justify="left")
@@ -121,20 +126,34 @@ def braking(
     complete_only: Annotated[
         bool, typer.Option("--complete-only", help="Evaluate only logs whose events all have an LLM answer.")
     ] = False,
+    judges: Annotated[
+        str,
+        typer.Option(
+            "--judges",
+            help="Also score these judges side by side (comma-separated: llm, hybrid); each re-judges "
+            "the stored events with the configured model.",
+        ),
+    ] = "",
     json_out: JsonOpt = False,
 ) -> None:
-    """Evaluate braking events against labels: KeyIdent, baseline vs LLM per category, text retrieval."""
+    """Evaluate braking events against labels: KeyIdent, rules / LLM / hybrid per category, retrieval."""
     import json
 
     from scenariominer import api
+    from scenariominer.llm.usage import UsageCounter, print_usage
 
     cfg = load_cfg(config)
-    request = api.BrakingEvalRequest(labels, categories, retrieval, complete_only)
-    ev = api.evaluate_braking(api.open_existing_store(store, cfg), request, cfg)
+    wanted = tuple(j.strip() for j in judges.split(",") if j.strip())
+    request = api.BrakingEvalRequest(labels, categories, retrieval, complete_only, wanted)
+    usage = UsageCounter()
+    with progress_bar(not json_out) as bar:
+        ev = api.evaluate_braking(api.open_existing_store(store, cfg), request, cfg, bar, usage)
     if json_out:
         console().print_json(json.dumps(ev.to_json_dict()))
     else:
         render_braking(ev)
+        if wanted:
+            print_usage(usage.report(), console())
 
 
 @app.command("mining")

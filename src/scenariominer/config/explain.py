@@ -48,6 +48,10 @@ class ExplainConfig:
             before the key time (solid lines).
         show_future_s: ... and the future trajectory over this many seconds after it (dashed).
         search_k: number of results a search returns by default.
+        judge: who decides an event's category: ``"hybrid"`` (the rules where exactly one holds,
+            the LLM among the rules' candidates otherwise; the LLM always writes the description
+            and a fact-based explanation), ``"llm"`` (the LLM among every category) or
+            ``"rules"`` (no model; see :mod:`scenariominer.explain.judge`).
     """
 
     context_before_s: float = 2.0
@@ -61,6 +65,7 @@ class ExplainConfig:
     show_past_s: float = 3.0
     show_future_s: float = 3.0
     search_k: int = 10
+    judge: str = "hybrid"
 
     def __post_init__(self) -> None:
         from scenariominer.config import ConfigError  # late: scenariominer.config imports this module
@@ -80,5 +85,7 @@ class ExplainConfig:
                 raise ConfigError(f"explain.{name} must be >= 0, got {value!r}")
         if self.llm_max_tokens < 1:
             raise ConfigError(f"explain.llm_max_tokens must be >= 1, got {self.llm_max_tokens}")
+        if self.judge not in ("hybrid", "llm", "rules"):
+            raise ConfigError(f"explain.judge must be one of ['hybrid', 'llm', 'rules'], got {self.judge!r}")
         if self.search_k < 1:
             raise ConfigError(f"explain.search_k must be >= 1, got {self.search_k}")

@@ -49,6 +49,7 @@ __all__ = [
     "RetrievalRow",
     "classification_scores",
     "evaluate_braking",
+    "pedestrian_confusion",
     "keyident_scores",
     "read_labels",
     "retrieval_row",
@@ -159,17 +160,20 @@ class KeyIdentRow:
 
 @dataclass(frozen=True)
 class CategoryScores:
-    """Baseline and LLM scores of one known category (a row of Table V).
+    """Scores of one known category by each judge, side by side (a row of Table V).
 
     Attributes:
         category: the category (``overall`` for the micro average).
-        baseline: scores of the rule-based baseline.
-        llm: scores of the LLM.
+        scores: ``judge → scores``, in column order (``rules`` first, then e.g. ``llm``, ``hybrid``).
     """
 
     category: str
-    baseline: PRF
-    llm: PRF
+    scores: Mapping[str, PRF]
+
+    @property
+    def baseline(self) -> PRF:
+        """Scores of the rule-based baseline (the ``rules`` column)."""
+        return self.scores["rules"]
 
 
 @dataclass(frozen=True)
@@ -222,26 +226,40 @@ def keyident_scores(labels: Sequence[Label], detected: Sequence[Pair]) -> tuple[
 
 def classification_scores(
     labels: Sequence[Label],
-    baseline: Mapping[Pair, Sequence[str]],
-    llm: Mapping[Pair, Sequence[str]],
+    predictions: Mapping[str, Mapping[Pair, Sequence[str]]],
     categories: Sequence[str],
 ) -> list[CategoryScores]:
-    """Per-category scores of the baseline and the LLM, plus the micro average (Table V).
+    """Per-category scores of each judge, plus the micro average (Table V).
 
     Args:
         labels: the labels of the evaluated logs.
-        baseline: the baseline's categories of every detected pair.
-        llm: the LLM's categories of every detected pair.
+        predictions: ``judge → (pair → categories of its events)``, in column order.
         categories: the known categories to score.
     """
     truth = {lab.pair: lab.category for lab in labels}
     rows = [
-        CategoryScores(c, category_prf(truth, baseline, c), category_prf(truth, llm, c)) for c in categories
+        CategoryScores(c, {j: category_prf(truth, pred, c) for j, pred in predictions.items()})
+        for c in categories
     ]
-    rows.append(
-        CategoryScores("overall", micro_prf(r.baseline for r in rows), micro_prf(r.llm for r in rows))
-    )
+    rows.append(CategoryScores("overall", {j: micro_prf(r.scores[j] for r in rows) for j in predictions}))
     return rows
+
+
+def pedestrian_confusion(
+    predictions: Mapping[str, Mapping[Pair, Sequence[str]]], pedestrians: set[Pair], category: str
+) -> dict[str, tuple[int, int]]:
+    """Per judge: ``(pedestrian pairs predicted as category, pedestrian pairs it predicted)``.
+
+    Args:
+        predictions: ``judge → (pair → categories of its events)``.
+        pedestrians: the detected pairs whose guest is a pedestrian.
+        category: the category a pedestrian should never get (``obj_crossing``).
+    """
+    out: dict[str, tuple[int, int]] = {}
+    for judge, pred in predictions.items():
+        seen = [p for p in pedestrians if p in pred]
+        out[judge] = (sum(1 for p in seen if category in pred[p]), len(seen))
+    return out
 
 
 def retrieval_row(
@@ -285,6 +303,9 @@ class BrakingEvaluation:
         classification: Table V rows (``overall`` last).
         retrieval: Table VI rows.
         embedding_model: model of the description embeddings ("" without retrieval).
+        judges: the columns of Table V, in order (``rules`` first).
+        pedestrians_as_obj_crossing: per judge, ``(pedestrian pairs classed obj_crossing,
+            pedestrian pairs detected)``.
     """
 
     n_logs: int
@@ -297,6 +318,8 @@ class BrakingEvaluation:
     classification: tuple[CategoryScores, ...]
     retrieval: tuple[RetrievalRow, ...] = field(default_factory=tuple)
     embedding_model: str = ""
+    judges: tuple[str, ...] = ("rules",)
+    pedestrians_as_obj_crossing: Mapping[str, tuple[int, int]] = field(default_factory=dict)
 
     def to_json_dict(self) -> dict[str, Any]:
         """JSON-safe form (undefined scores are ``null``)."""
@@ -333,10 +356,14 @@ class BrakingEvaluation:
                     for r in self.keyident
                 ],
             },
+            "judges": list(self.judges),
             "classification": [
-                {"category": r.category, "baseline": scores(r.baseline), "llm": scores(r.llm)}
+                {"category": r.category, **{j: scores(p) for j, p in r.scores.items()}}
                 for r in self.classification
             ],
+            "pedestrians_as_obj_crossing": {
+                j: {"n": n, "of": of} for j, (n, of) in self.pedestrians_as_obj_crossing.items()
+            },
             "retrieval": [
                 {
                     "category": r.category,
@@ -417,6 +444,7 @@ def evaluate_braking(
     k_precision: int = 10,
     k_recall: int = 50,
     only_complete: bool = False,
+    extra_judges: Mapping[str, Mapping[str, str]] | None = None,
 ) -> BrakingEvaluation:
     """Evaluate the analysed events of a store against labels (see the module docstring).
 
@@ -432,6 +460,9 @@ def evaluate_braking(
         k_recall: recall cut-off.
         only_complete: evaluate only logs whose every event has an LLM answer (skips logs left
             ``pending`` by ``--limit``, so a partial LLM run is scored on the logs it finished).
+        extra_judges: further columns of Table V, ``judge → (event_id → category)`` (e.g. the
+            LLM alone re-judging the stored events); the stored ``category`` is the column named
+            after the store's own judge, the rules' ``baseline_category`` the ``rules`` column.
 
     Raises:
         NoEventsError: the store has not been analysed.
@@ -451,17 +482,26 @@ def evaluate_braking(
         events = pa.table(
             {
                 name: pa.array([], pa.string())
-                for name in ("log_id", "guest_id", "event_id", "category", "baseline_category", "llm_status")
+                for name in (
+                    "log_id",
+                    "guest_id",
+                    "guest_category",
+                    "event_id",
+                    "category",
+                    "baseline_category",
+                    "llm_status",
+                    "judge",
+                )
             }
         )
     detected = list(_pairs_by_category(events, "category"))
     ki_rows, ki_overall = keyident_scores(evaluated, detected)
-    cls_rows = classification_scores(
-        evaluated,
-        _pairs_by_category(events, "baseline_category"),
-        _pairs_by_category(events, "category"),
-        categories.scenario_names,
-    )
+    predictions = _predictions(events, extra_judges or {})
+    cls_rows = classification_scores(evaluated, predictions, categories.scenario_names)
+    pedestrians = {
+        p for p, cats in _pairs_by_category(events, "guest_category").items() if "PEDESTRIAN" in cats
+    }
+    confusion = pedestrian_confusion(predictions, pedestrians, "obj_crossing")
     status: dict[str, int] = {}
     for s in events.column("llm_status").to_pylist():
         status[str(s)] = status.get(str(s), 0) + 1
@@ -485,4 +525,33 @@ def evaluate_braking(
         classification=tuple(cls_rows),
         retrieval=tuple(retrieval),
         embedding_model=model,
+        judges=tuple(predictions),
+        pedestrians_as_obj_crossing=confusion,
     )
+
+
+def _predictions(
+    events: pa.Table, extra_judges: Mapping[str, Mapping[str, str]]
+) -> dict[str, dict[Pair, list[str]]]:
+    """The Table V columns: ``rules``, the store's own judge, then the extra judges."""
+    stored = {str(j) for j in events.column("judge").to_pylist()} if "judge" in events.column_names else set()
+    own = (stored.pop() if len(stored) == 1 else "") or "llm"  # stores before judges: the LLM's
+    out = {"rules": _pairs_by_category(events, "baseline_category")}
+    if own != "rules":
+        out[own] = _pairs_by_category(events, "category")
+    pairs = {
+        str(e): (str(lg), str(g))
+        for e, lg, g in zip(
+            events.column("event_id").to_pylist(),
+            events.column("log_id").to_pylist(),
+            events.column("guest_id").to_pylist(),
+            strict=True,
+        )
+    }
+    for judge, by_event in extra_judges.items():
+        col: dict[Pair, list[str]] = {}
+        for event_id, category in by_event.items():
+            if event_id in pairs:
+                col.setdefault(pairs[event_id], []).append(category)
+        out[judge] = col
+    return out

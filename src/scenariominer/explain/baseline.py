@@ -37,6 +37,7 @@ __all__ = [
     "is_left_oppo",
     "is_obj_crossing",
     "is_right_ped",
+    "rule_candidates",
 ]
 
 #: Version of the rules below; part of the analysis fingerprint, bump it when a rule changes.
@@ -116,3 +117,12 @@ def baseline_category(pair: PairTags) -> str:
         if rule(pair):
             return name
     return NOT_RELEVANT
+
+
+def rule_candidates(pair: PairTags) -> tuple[str, ...]:
+    """Every category whose rule holds, in :data:`BASELINE_RULES` order (empty: none holds).
+
+    One name means the rules decide; several mean the event is ambiguous for the rules (the
+    hybrid judgement lets the LLM choose among them); none means no known category fits.
+    """
+    return tuple(name for name, rule in BASELINE_RULES if rule(pair))

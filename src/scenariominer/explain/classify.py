@@ -21,6 +21,7 @@ from pydantic import BaseModel, Field, create_model
 from scenariominer.config.tags import TagConfig
 from scenariominer.explain.categories import ERROR_CATEGORY, INVALID_CATEGORY, CategorySet
 from scenariominer.explain.prompts import build_messages
+from scenariominer.llm.base import Message
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.errors import LLMError, StructuredOutputError
 
@@ -29,6 +30,7 @@ __all__ = [
     "EXPLANATION_MAX_CHARS",
     "Classification",
     "ClassificationStatus",
+    "ask",
     "classify_description",
     "understanding_model",
 ]
@@ -48,7 +50,8 @@ class ClassificationStatus(StrEnum):
         REPAIRED: valid after the repair round.
         INVALID: still invalid after the repair round (category ``invalid``).
         ERROR: the backend failed (category ``error``).
-        PENDING: not asked yet (the run's LLM limit was reached).
+        PENDING: not asked yet (the run's LLM limit was reached); the category is the rules'.
+        RULES: decided by the rules alone, no model asked (``--llm off`` / judge ``rules``).
     """
 
     OK = "ok"
@@ -56,6 +59,7 @@ class ClassificationStatus(StrEnum):
     INVALID = "invalid"
     ERROR = "error"
     PENDING = "pending"
+    RULES = "rules"
 
 
 @dataclass(frozen=True)
@@ -139,6 +143,17 @@ def classify_description(
     """
     model = understanding_model(categories)
     messages = build_messages(description, categories, tag_cfg)
+    return ask(client, messages, model, max_tokens=max_tokens)
+
+
+def ask(
+    client: ChatClient, messages: list[Message], model: type[BaseModel], *, max_tokens: int | None = None
+) -> Classification:
+    """Ask for one structured answer with ``description``, ``explanation`` and maybe ``category``.
+
+    An answer without a ``category`` field (the caller already knows it) gets ``category=""``.
+    Never raises for an invalid answer or a backend failure: they become ``invalid`` / ``error``.
+    """
     overrides: dict[str, Any] = {} if max_tokens is None else {"max_tokens": max_tokens}
     try:
         result = client.chat_result(messages, model, **overrides)
@@ -165,7 +180,7 @@ def classify_description(
     value = result.value
     completions = result.completions
     return Classification(
-        category=str(value.category),
+        category=str(getattr(value, "category", "")),
         description=str(value.description).strip(),
         explanation=str(value.explanation).strip(),
         status=ClassificationStatus.OK if result.attempts == 1 else ClassificationStatus.REPAIRED,

@@ -36,10 +36,12 @@ from scenariominer.events.criticality import event_criticality
 from scenariominer.events.describe import DESCRIPTION_VERSION, describe_segments
 from scenariominer.events.keyident import KeyEvent, find_key_objects
 from scenariominer.events.segments import pair_tags, segment_pair
-from scenariominer.explain.baseline import BASELINE_VERSION, baseline_category
-from scenariominer.explain.categories import PENDING_CATEGORY, CategorySet, load_categories
-from scenariominer.explain.classify import Classification, ClassificationStatus, classify_description
-from scenariominer.explain.prompts import PROMPT_VERSION
+from scenariominer.explain.baseline import BASELINE_VERSION, rule_candidates
+from scenariominer.explain.categories import NOT_RELEVANT, CategorySet, load_categories
+from scenariominer.explain.classify import Classification, ClassificationStatus
+from scenariominer.explain.facts import event_facts
+from scenariominer.explain.judge import Judge, allowed_categories, judge_event, rules_only
+from scenariominer.explain.prompts import JUDGE_PROMPT_VERSION
 from scenariominer.explain.records import (
     EMBEDDINGS_TABLE,
     EVENTS_TABLE,
@@ -232,7 +234,7 @@ def analysis_fingerprint(
         "tags": asdict(config.tags),
         "explain": asdict(explain),
         "categories": categories.fingerprint,
-        "prompt": PROMPT_VERSION,
+        "prompt": JUDGE_PROMPT_VERSION,
         "description": DESCRIPTION_VERSION,
         "baseline": BASELINE_VERSION,
         "chat": None
@@ -244,8 +246,15 @@ def analysis_fingerprint(
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 
-def _pending() -> Classification:
-    return Classification(PENDING_CATEGORY, "", "", ClassificationStatus.PENDING)
+def _fresh_call(outcome: Classification) -> bool:
+    """Whether the outcome cost a model call (asked, and not answered from the cache)."""
+    asked = outcome.status not in (ClassificationStatus.PENDING, ClassificationStatus.RULES)
+    return asked and not outcome.cached
+
+
+def _pending(rules: Classification) -> Classification:
+    """The rules' result, marked as waiting for the LLM."""
+    return dataclasses.replace(rules, status=ClassificationStatus.PENDING)
 
 
 def analyze_log(
@@ -299,7 +308,7 @@ def analyze_log(
             llm_model,
             fingerprint,
         )
-        if outcome.status is not ClassificationStatus.PENDING and not outcome.cached:
+        if _fresh_call(outcome):
             fresh_calls += 1
         records.append(record)
         texts.append(text)
@@ -331,12 +340,17 @@ def _analyze_event(
         notes.append(f"the guest is observed in only {pair.guest_frames} frame(s) of the window")
     description = describe_segments(segment_pair(pair, cfg.min_segment_s))
     crit = event_criticality(log, tags, event.track_id, event.start_ns, event.end_ns, cfg)
-    baseline = baseline_category(pair)
-    if chat_client is None:
-        outcome = _pending()
+    candidates = rule_candidates(pair)
+    facts = event_facts(log, pair, crit, event.start_ns, event.min_distance_m)
+    judge = Judge(cfg.judge)
+    allowed = allowed_categories(judge, candidates, categories)
+    if judge is Judge.RULES:
+        outcome = rules_only(candidates, categories, facts)
+    elif chat_client is None:
+        outcome = _pending(rules_only(candidates, categories, facts))
     else:
-        outcome = classify_description(
-            chat_client, description, categories, config.tags, max_tokens=cfg.llm_max_tokens
+        outcome = judge_event(
+            chat_client, facts, candidates, categories, judge, max_tokens=cfg.llm_max_tokens
         )
     if outcome.status is ClassificationStatus.INVALID:
         notes.append("the LLM answer was invalid after the repair round")
@@ -362,7 +376,11 @@ def _analyze_event(
         headway_s=crit.headway_s,
         peak_decel_mps2=crit.peak_decel_mps2,
         tag_description=description,
-        baseline_category=baseline,
+        baseline_category=candidates[0] if candidates else NOT_RELEVANT,
+        rule_candidates=",".join(candidates),
+        facts=facts.text(),
+        judge=judge.value,
+        llm_category=outcome.category if outcome.is_valid and len(allowed) > 1 else "",
         category=outcome.category,
         llm_status=outcome.status.value,
         llm_description=outcome.description,
@@ -371,8 +389,8 @@ def _analyze_event(
         llm_error=outcome.error,
         llm_attempts=outcome.attempts,
         llm_latency_s=outcome.latency_s,
-        llm_model=llm_model if outcome.status is not ClassificationStatus.PENDING else "",
-        prompt_version=PROMPT_VERSION,
+        llm_model=llm_model if outcome.attempts else "",
+        prompt_version=JUDGE_PROMPT_VERSION,
         categories_source=categories.source,
         embedded_text="llm" if use_llm_text else "tags",
         embedding_model="",
@@ -528,7 +546,7 @@ def _analyze_and_store(
         log_id=log_id,
         status=outcome.status,
         n_events=len(records),
-        n_llm_calls=sum(1 for c in cls if c.status is not ClassificationStatus.PENDING and not c.cached),
+        n_llm_calls=sum(1 for c in cls if _fresh_call(c)),
         n_cached=sum(1 for c in cls if c.cached),
         n_invalid=sum(1 for c in cls if c.status is ClassificationStatus.INVALID),
         n_errors=sum(1 for c in cls if c.status is ClassificationStatus.ERROR),

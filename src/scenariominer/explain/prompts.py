@@ -13,11 +13,20 @@ analysis fingerprint, so stored results are recomputed.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from scenariominer.config.tags import TagConfig
 from scenariominer.explain.categories import NOT_RELEVANT, UNKNOWN_BUT_RELEVANT, CategorySet
 from scenariominer.llm.base import Message, system, user
 
-__all__ = ["PROMPT_VERSION", "build_messages", "system_prompt"]
+__all__ = [
+    "JUDGE_PROMPT_VERSION",
+    "PROMPT_VERSION",
+    "build_messages",
+    "judge_messages",
+    "judge_system_prompt",
+    "system_prompt",
+]
 
 #: Version of the prompt texts below; stored with every result.
 PROMPT_VERSION = "braking-understanding/2"
@@ -124,4 +133,50 @@ def build_messages(
     return [
         system(system_prompt(categories, tag_cfg)),
         user(f"Scenario description:\n{description.strip()}"),
+    ]
+
+
+# ---------------------------------------------------------------- judgement from facts (v3)
+
+#: Version of the judgement prompt below (hybrid and LLM-alone judges); stored with every result.
+JUDGE_PROMPT_VERSION = "braking-judge/3"
+
+_JUDGE_ROLE = (
+    "You explain why an automated vehicle (the ego) braked, from facts measured in its driving log "
+    "about the road user involved (the guest)."
+)
+
+_JUDGE_TASK = """Answer with one JSON object:
+- "category": one of the allowed category names given with the facts;
+- "description": one sentence, in your own words, saying what the guest did that made the ego brake;
+- "explanation": one sentence giving the concrete facts (who, where, speeds, gap in metres, time to \
+collision) that show this category.
+Use only the numbers and positions given in the facts."""
+
+
+def judge_system_prompt(categories: CategorySet) -> str:
+    """The system message of the judgement: role, every category with its definition, answer format.
+
+    It is the same for every event of a category set (the per-event part is the user message),
+    so its evaluated state is reused across calls and processes.
+    """
+    listed = "\n".join(f"- {c.name}: {c.definition}" for c in categories.categories)
+    return f"{_JUDGE_ROLE}\n\nScenario categories:\n{listed}\n\n{_JUDGE_TASK}"
+
+
+def judge_messages(facts_text: str, allowed: Sequence[str], categories: CategorySet) -> list[Message]:
+    """The conversation judging one event: the shared system message, then its facts.
+
+    Args:
+        facts_text: the event's facts (:meth:`~scenariominer.explain.facts.EventFacts.text`).
+        allowed: the category names the answer may use (one when the rules already decided).
+        categories: the category set.
+    """
+    if len(allowed) == 1:
+        choice = f"The category is {allowed[0]}; describe and explain it."
+    else:
+        choice = "Allowed categories: " + ", ".join(allowed) + "."
+    return [
+        system(judge_system_prompt(categories)),
+        user(f"Facts:\n{facts_text.strip()}\n\n{choice}"),
     ]

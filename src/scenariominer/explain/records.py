@@ -65,8 +65,13 @@ class EventRecord:
         headway_s: minimum time headway behind the guest, seconds (NaN if it never leads).
         peak_decel_mps2: the ego's peak deceleration in the window, m/s².
         tag_description: the structured description given to the LLM.
-        baseline_category: the rule-based baseline's category.
-        category: the LLM's category, or ``invalid`` / ``error`` / ``pending``.
+        baseline_category: the rule-based baseline's category (the first rule that holds).
+        rule_candidates: every category whose rule holds, comma-separated.
+        facts: the event's facts as given to the LLM (who, where, speeds, gap, TTC).
+        judge: who decided the category (``hybrid``, ``llm`` or ``rules``).
+        llm_category: the category the LLM chose ("" when it was not asked to choose).
+        category: the final category, or ``invalid`` / ``error``; while the LLM's answer is
+            pending, the rules' category.
         llm_status: how the LLM answer was obtained (see ``ClassificationStatus``).
         llm_description: the LLM's rephrased description.
         explanation: the LLM's reason for the category.
@@ -105,6 +110,10 @@ class EventRecord:
     peak_decel_mps2: float
     tag_description: str
     baseline_category: str
+    rule_candidates: str
+    facts: str
+    judge: str
+    llm_category: str
     category: str
     llm_status: str
     llm_description: str

@@ -1,0 +1,156 @@
+"""Who decides an event's category: the rules, the LLM, or both (the hybrid judgement).
+
+* ``rules``: the first rule of :mod:`~scenariominer.explain.baseline` that holds; the explanation
+  is written from the event's facts without a model (instant, no LLM loaded).
+* ``llm``: the LLM chooses among every category from the event's facts (the paper's setting, with
+  facts instead of the tag-by-tag description); kept for comparison.
+* ``hybrid`` (default): the rules decide where exactly one rule holds; the LLM chooses only among
+  the rules' candidates when several hold, and between ``unknown_but_relevant`` and
+  ``not_relevant`` when none holds. In every case the LLM writes the rephrased description and an
+  explanation that quotes the facts. A pedestrian can therefore never become ``obj_crossing`` or
+  ``cut_in`` (their rules exclude pedestrians), which the LLM alone does in most pedestrian events.
+
+Where the rules decide, the answer's schema has no ``category`` field at all (fewer tokens to
+generate); otherwise ``category`` is a JSON-schema enum of the allowed names.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from enum import StrEnum
+from typing import Any, Literal
+
+import pyarrow as pa
+from pydantic import BaseModel, Field, create_model
+
+from scenariominer.explain.categories import NOT_RELEVANT, UNKNOWN_BUT_RELEVANT, CategorySet
+from scenariominer.explain.classify import (
+    DESCRIPTION_MAX_CHARS,
+    EXPLANATION_MAX_CHARS,
+    Classification,
+    ClassificationStatus,
+    ask,
+)
+from scenariominer.explain.facts import EventFacts, rules_explanation
+from scenariominer.explain.prompts import judge_messages
+from scenariominer.llm.client import ChatClient
+
+__all__ = ["Judge", "allowed_categories", "judge_event", "rejudge_events", "rules_only"]
+
+
+class Judge(StrEnum):
+    """Who decides the category (see the module docstring)."""
+
+    RULES = "rules"
+    LLM = "llm"
+    HYBRID = "hybrid"
+
+
+def allowed_categories(judge: Judge, candidates: Sequence[str], categories: CategorySet) -> tuple[str, ...]:
+    """The category names the LLM may answer with for one event.
+
+    Args:
+        judge: ``llm`` allows every category; ``hybrid`` the rules' candidates (see the module
+            docstring); ``rules`` the first candidate or ``not_relevant``.
+        candidates: the categories whose rules hold (:func:`~scenariominer.explain.baseline.rule_candidates`).
+        categories: the category set (candidates outside it are ignored).
+    """
+    if judge is Judge.LLM:
+        return categories.names
+    known = tuple(c for c in candidates if c in categories.names)
+    if judge is Judge.RULES:
+        return known[:1] or (NOT_RELEVANT,)
+    if known:
+        return known
+    return tuple(c for c in (UNKNOWN_BUT_RELEVANT, NOT_RELEVANT) if c in categories.names)
+
+
+def _answer_model(allowed: Sequence[str]) -> type[BaseModel]:
+    fields: dict[str, Any] = {
+        "description": (str, Field(max_length=DESCRIPTION_MAX_CHARS)),
+        "explanation": (str, Field(max_length=EXPLANATION_MAX_CHARS)),
+    }
+    if len(allowed) > 1:
+        category_type: Any = Literal[tuple(allowed)]  # type: ignore[valid-type]
+        fields = {"category": (category_type, ...), **fields}
+    return create_model("BrakingJudgement", **fields)
+
+
+def rules_only(candidates: Sequence[str], categories: CategorySet, facts: EventFacts) -> Classification:
+    """The rules' category with an explanation written from the facts (no model)."""
+    (category,) = allowed_categories(Judge.RULES, candidates, categories)
+    return Classification(
+        category=category,
+        description="",
+        explanation=rules_explanation(category, facts),
+        status=ClassificationStatus.RULES,
+    )
+
+
+def judge_event(
+    client: ChatClient,
+    facts: EventFacts | str,
+    candidates: Sequence[str],
+    categories: CategorySet,
+    judge: Judge = Judge.HYBRID,
+    *,
+    max_tokens: int | None = None,
+) -> Classification:
+    """Ask the LLM to decide one event's category (where allowed) and to describe and explain it.
+
+    Args:
+        client: the LLM.
+        facts: the event's facts (or their stored text).
+        candidates: the categories whose rules hold.
+        categories: the category set.
+        judge: ``hybrid`` or ``llm`` (the rules need no model: :func:`rules_only`).
+        max_tokens: bound on each answer's tokens.
+
+    Returns:
+        The classification; never raises for an invalid answer or a backend failure.
+
+    Raises:
+        ValueError: ``judge`` is ``rules``.
+    """
+    if judge is Judge.RULES:
+        raise ValueError("the rules judge needs no model: use rules_only()")
+    allowed = allowed_categories(judge, candidates, categories)
+    text = facts if isinstance(facts, str) else facts.text()
+    messages = judge_messages(text, allowed, categories)
+    outcome = ask(client, messages, _answer_model(allowed), max_tokens=max_tokens)
+    if len(allowed) == 1 and outcome.is_valid:
+        outcome = dataclasses.replace(outcome, category=allowed[0])
+    return outcome
+
+
+def rejudge_events(
+    events: pa.Table,
+    client: ChatClient,
+    categories: CategorySet,
+    judge: Judge,
+    *,
+    max_tokens: int | None = None,
+    on_event: Callable[[Classification], None] | None = None,
+) -> dict[str, str]:
+    """Judge stored events again from their stored facts and rule candidates (for evaluation).
+
+    Args:
+        events: rows of the ``events`` table (``event_id``, ``facts``, ``rule_candidates``).
+        client: the LLM (answers already cached, e.g. by an analysis with this judge, are free).
+        categories: the category set.
+        judge: ``hybrid`` or ``llm``.
+        max_tokens: bound on each answer's tokens.
+        on_event: called after each event (progress).
+
+    Returns:
+        ``event_id → category`` (``invalid`` / ``error`` where the LLM failed).
+    """
+    out: dict[str, str] = {}
+    for row in events.select(["event_id", "facts", "rule_candidates"]).to_pylist():
+        candidates = [c for c in str(row["rule_candidates"] or "").split(",") if c]
+        outcome = judge_event(client, str(row["facts"]), candidates, categories, judge, max_tokens=max_tokens)
+        out[str(row["event_id"])] = outcome.category
+        if on_event is not None:
+            on_event(outcome)
+    return out

@@ -1,0 +1,94 @@
+"""Who decides the category: allowed names per judge, the schema the LLM gets, rules-only answers."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from scenariominer.eval.braking import pedestrian_confusion
+from scenariominer.explain.baseline import rule_candidates
+from scenariominer.explain.categories import CategorySet
+from scenariominer.explain.classify import ClassificationStatus
+from scenariominer.explain.facts import EventFacts, rules_explanation
+from scenariominer.explain.judge import Judge, allowed_categories, judge_event, rules_only
+from scenariominer.llm import ChatClient
+from scenariominer.tags.vocab import HeadingTag, PositionTag
+from scenariominer.testing import ScriptedBackend
+
+from .braking_builders import make_pair
+
+CATS = CategorySet.default()
+
+
+def _facts(pedestrian: bool = False) -> EventFacts:
+    return EventFacts(
+        guest="pedestrian" if pedestrian else "regular vehicle",
+        guest_is_pedestrian=pedestrian,
+        ego_speed_kmh=32.4,
+        guest_speed_kmh=5.0,
+        position_start="FRONT_RIGHT",
+        position_closest="FRONT",
+        heading="LEFT",
+        ego_lateral="",
+        guest_lateral="",
+        min_gap_m=3.25,
+        min_ttc_s=1.4,
+        headway_s=math.nan,
+        peak_decel_mps2=4.2,
+    )
+
+
+def test_allowed_categories_per_judge() -> None:
+    assert allowed_categories(Judge.LLM, ["cut_in"], CATS) == CATS.names
+    assert allowed_categories(Judge.HYBRID, ["cut_in"], CATS) == ("cut_in",)
+    assert allowed_categories(Judge.HYBRID, ["cut_in", "obj_crossing"], CATS) == ("cut_in", "obj_crossing")
+    assert allowed_categories(Judge.HYBRID, [], CATS) == ("unknown_but_relevant", "not_relevant")
+    assert allowed_categories(Judge.RULES, ["cut_in", "obj_crossing"], CATS) == ("cut_in",)
+    assert allowed_categories(Judge.RULES, [], CATS) == ("not_relevant",)
+
+
+def test_a_crossing_pedestrian_is_never_an_obj_crossing_candidate() -> None:
+    rows = {"pair_heading": [HeadingTag.LEFT.value] * 30, "pair_position": [PositionTag.FRONT.value] * 30}
+    assert "obj_crossing" not in rule_candidates(make_pair("PEDESTRIAN", **rows))
+    assert rule_candidates(make_pair("REGULAR_VEHICLE", **rows)) == ("obj_crossing",)
+
+
+def test_decided_events_get_a_schema_without_category() -> None:
+    backend = ScriptedBackend([json.dumps({"description": "A car cuts in.", "explanation": "Gap 3.2 m."})])
+    out = judge_event(ChatClient(backend), _facts(), ["cut_in"], CATS, Judge.HYBRID)
+    assert out.category == "cut_in" and out.status is ClassificationStatus.OK
+    (request,) = backend.requests
+    assert "category" not in request.json_schema["properties"]
+    assert "The category is cut_in" in request.messages[-1].content
+    assert "smallest gap: 3.2 m" in request.messages[-1].content
+
+
+def test_ambiguous_events_let_the_llm_choose_among_the_candidates_only() -> None:
+    answer = {"category": "obj_crossing", "description": "d", "explanation": "e"}
+    backend = ScriptedBackend([json.dumps(answer)])
+    out = judge_event(ChatClient(backend), _facts(), ["cut_in", "obj_crossing"], CATS, Judge.HYBRID)
+    assert out.category == "obj_crossing"
+    schema = backend.requests[0].json_schema
+    assert json.dumps(schema).count("left_oppo") == 0  # not an allowed name here
+    bad = ScriptedBackend([json.dumps({**answer, "category": "left_oppo"})] * 3)
+    assert judge_event(ChatClient(bad), _facts(), ["cut_in", "obj_crossing"], CATS).category == "invalid"
+
+
+def test_rules_judge_needs_no_model_and_states_the_facts() -> None:
+    out = rules_only(["obj_crossing"], CATS, _facts())
+    assert out.category == "obj_crossing" and out.status is ClassificationStatus.RULES
+    assert "3.2 m" in out.explanation and "32 km/h" in out.explanation and "1.4 s" in out.explanation
+    assert rules_explanation("not_relevant", _facts(pedestrian=True)).startswith("Not relevant: a pedestrian")
+    with pytest.raises(ValueError, match="rules_only"):
+        judge_event(ChatClient(ScriptedBackend([])), _facts(), [], CATS, Judge.RULES)
+
+
+def test_pedestrian_confusion_counts_per_judge() -> None:
+    peds = {("L", "p1"), ("L", "p2")}
+    preds = {
+        "rules": {("L", "p1"): ["right_ped"]},
+        "llm": {("L", "p1"): ["obj_crossing"], ("L", "p2"): ["x"]},
+    }
+    assert pedestrian_confusion(preds, peds, "obj_crossing") == {"rules": (0, 1), "llm": (1, 2)}
