@@ -134,7 +134,9 @@ def vectorised_bicycle_right(ctx: LogContext) -> int:
     """The same cells with the vectorised predicate (no post-processing)."""
     vehicles = get_objects_of_category(ctx, "VEHICLE")
     bikes = get_objects_of_category(ctx, "BICYCLE")
-    return has_objects_in_relative_direction(vehicles, bikes, ctx, direction="right").n_referred_cells
+    return has_objects_in_relative_direction(
+        vehicles, bikes, ctx, direction="right", within_distance=4, lateral_thresh=1
+    ).n_referred_cells
 
 
 def main() -> None:

@@ -50,7 +50,8 @@ KEY = "vehicle with a bicycle to its right"
 PROGRAM = """
 vehicles = get_objects_of_category(log_dir, category='VEHICLE')
 bicycles = get_objects_of_category(log_dir, category='BICYCLE')
-result = has_objects_in_relative_direction(vehicles, bicycles, log_dir, direction='right')
+result = has_objects_in_relative_direction(
+    vehicles, bicycles, log_dir, direction='right', within_distance=4, lateral_thresh=1)
 output_scenario(result, description, log_dir, output_dir)
 """
 

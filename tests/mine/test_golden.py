@@ -6,6 +6,16 @@ the module splits and the move of the AV2 ego to its box centre): for each descr
 track uuids and their timestamps. Moving the ego changed no program's output, because the mining
 context already shifted the ego to its box centre; that shift now happens once, in the AV2 reader.
 Never regenerate the file to make this test pass: a difference is a behaviour change to explain.
+
+Changed since, by the RefAV-semantics fixes (docs/mining.md, "RefAV compatibility"), losses only:
+
+* "vehicle following another vehicle": 630 -> 565 cells, 20 -> 17 tracks. Semantic lanes became
+  RefAV's directed chains instead of connected components (F5): in 57 of the 65 cells the former
+  lead drove in the next lane (3.3-4.8 m sideways), in 8 on the other branch of a lane split.
+* "fast vehicle on the opposite side of the road from the ego vehicle": 34 -> 26 cells, 3 -> 2
+  tracks. Track 2f7995c2 was 89.5-99.1 m from the ego at its 8 cells; its relation to the ego
+  was already dropped by the 50 m relation filter, and now, as in RefAV, a referred cell with no
+  related object left is dropped too (F6).
 """
 
 from __future__ import annotations

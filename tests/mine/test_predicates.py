@@ -204,21 +204,23 @@ def test_lane_change_thresholds_from_config(config: MiningConfig) -> None:
 
 def test_bicycle_to_the_right_of_the_ego_only(street: LogContext) -> None:
     vehicles, bikes = _cat(street, "VEHICLE"), _cat(street, "BICYCLE")
-    s = P.has_objects_in_relative_direction(vehicles, bikes, street, direction="right")
+    beside = {"within_distance": 4, "lateral_thresh": 1}
+    s = P.has_objects_in_relative_direction(vehicles, bikes, street, direction="right", **beside)
     assert _tracks(street, s) == {"ego"} and _span(street, s, "ego") == (0.0, 6.0)
     assert _related(street, s, "ego") == {"bike"}
-    assert P.has_objects_in_relative_direction(vehicles, bikes, street, direction="left").is_empty
+    assert P.has_objects_in_relative_direction(vehicles, bikes, street, direction="left", **beside).is_empty
 
 
 def test_direction_defaults_and_arguments(street: LogContext) -> None:
     vehicles = _cat(street, "VEHICLE")
     ego = _cat(street, "EGO_VEHICLE")
-    ahead = P.has_objects_in_relative_direction(ego, vehicles, street, direction="forward")
+    lane = {"within_distance": 25, "lateral_thresh": 1}
+    ahead = P.has_objects_in_relative_direction(ego, vehicles, street, direction="forward", **lane)
     assert _related(street, ahead, "ego") == {"lead"}  # 10.5 m gap, same lane
     assert P.has_objects_in_relative_direction(
-        ego, vehicles, street, direction="front", within_distance=10
+        ego, vehicles, street, direction="front", within_distance=10, lateral_thresh=1
     ).is_empty
-    behind = P.has_objects_in_relative_direction(ego, vehicles, street, direction="backward")
+    behind = P.has_objects_in_relative_direction(ego, vehicles, street, direction="backward", **lane)
     # the changer, until its centre is more than 1 m beyond the ego's left side (y > 2 m at t > 3.07 s)
     assert _span(street, behind, "ego") == (0.0, 3.0)
     wide = P.has_objects_in_relative_direction(
@@ -236,40 +238,44 @@ def test_direction_defaults_and_arguments(street: LogContext) -> None:
     assert (one.relations[:, 1] == t).sum() == 1 and (wide.relations[:, 1] == t).sum() >= 2
 
 
-@pytest.mark.parametrize(
-    ("config", "direction", "expected"),
-    [
-        (MiningConfig(), "right", True),
-        (MiningConfig(side_max_distance_m=2.0), "right", False),  # bike gap is 2.3 m
-        (MiningConfig(), "forward", True),
-        (MiningConfig(front_back_max_distance_m=10.0), "forward", False),  # lead gap is 10.5 m
-    ],
-)
-def test_direction_distance_defaults_from_config(
-    config: MiningConfig, direction: str, expected: bool
-) -> None:
-    ctx = _with_config(config)
-    other = "BICYCLE" if direction == "right" else "REGULAR_VEHICLE"
-    s = P.has_objects_in_relative_direction(
-        _cat(ctx, "EGO_VEHICLE"), _cat(ctx, other), ctx, direction=direction
+def test_direction_defaults_are_refavs_half_plane_up_to_50_m(street: LogContext) -> None:
+    # RefAV: within_distance=50, lateral_thresh=inf for both functions
+    for func in (P.has_objects_in_relative_direction, P.get_objects_in_relative_direction):
+        params = inspect.signature(func).parameters
+        assert params["within_distance"].default == 50 and params["lateral_thresh"].default == math.inf
+    ego, vehicles = _cat(street, "EGO_VEHICLE"), _cat(street, "VEHICLE")
+    default = P.has_objects_in_relative_direction(ego, vehicles, street, direction="left")
+    wide = P.has_objects_in_relative_direction(
+        ego, vehicles, street, direction="left", within_distance=50, lateral_thresh=math.inf
     )
-    assert (not s.is_empty) is expected
+    assert np.array_equal(default.referred, wide.referred)
+    assert np.array_equal(default.relations, wide.relations)
+    # the overtaker (lane 2) and the parked and oncoming cars (westbound lane) are all left of the ego
+    assert {"overtaker", "parked", "oncoming"} <= _related(street, default, "ego")
 
 
-def test_direction_lateral_default_from_config() -> None:
+def test_direction_lateral_threshold_narrows_the_half_plane() -> None:
     # the bike rides 3.5 m ahead of the ego's centre: its centre is 1.25 m past the ego's front
     objs = street_objects()
     bike = next(o for o in objs if o.track_id == "bike")
     bike.x_m = bike.x_m + 3.5
-    for cfg, expected in ((MiningConfig(), False), (MiningConfig(direction_lateral_m=2.0), True)):
-        ctx = _with_config(cfg, objs=objs)
-        s = P.has_objects_in_relative_direction(_cat(ctx, "EGO_VEHICLE"), _cat(ctx, "BICYCLE"), ctx, "right")
-        assert (not s.is_empty) is expected
+    ctx = _with_config(MiningConfig(), objs=objs)
+    ego, bikes = _cat(ctx, "EGO_VEHICLE"), _cat(ctx, "BICYCLE")
+    assert not P.has_objects_in_relative_direction(ego, bikes, ctx, "right").is_empty
+    assert P.has_objects_in_relative_direction(ego, bikes, ctx, "right", lateral_thresh=1).is_empty
+    assert not P.has_objects_in_relative_direction(ego, bikes, ctx, "right", lateral_thresh=2).is_empty
+    # the bike box is 2.3 m from the ego's box
+    assert P.has_objects_in_relative_direction(ego, bikes, ctx, "right", within_distance=2).is_empty
 
 
 def test_get_objects_in_relative_direction_returns_the_related_side(street: LogContext) -> None:
     s = P.get_objects_in_relative_direction(
-        _cat(street, "EGO_VEHICLE"), _cat(street, "PEDESTRIAN"), street, "forward", within_distance=20
+        _cat(street, "EGO_VEHICLE"),
+        _cat(street, "PEDESTRIAN"),
+        street,
+        "forward",
+        within_distance=20,
+        lateral_thresh=1,
     )
     assert _tracks(street, s) == {"ped"} and _related(street, s, "ped") == {"ego"}
     assert _span(street, s, "ped") == (2.8, 3.9)
@@ -309,10 +315,32 @@ def test_overtaking_on_the_left_is_a_clockwise_crossing(street: LogContext) -> N
     s = P.being_crossed_by(
         ego, vehicles, street, direction="left", in_direction="clockwise", forward_thresh=4
     )
-    assert _related(street, s, "ego") == {"overtaker"} and _span(street, s, "ego") == (2.6, 5.4)
+    # the overtaker is 5t - 20 m ahead of the ego's centre: tracked from 5 m behind the ego's rear
+    # (7.25 m behind its centre, t = 2.55 s) until 5 m ahead of its centre (t = 5 s, excluded)
+    assert _related(street, s, "ego") == {"overtaker"} and _span(street, s, "ego") == (2.6, 4.9)
     assert P.being_crossed_by(
         ego, vehicles, street, direction="left", in_direction="counterclockwise", forward_thresh=4
     ).is_empty
+
+
+def test_crossing_ends_lateral_thresh_past_the_centre_line() -> None:
+    # a pedestrian walks north at 1 m/s across the front of a parked car (centre at the origin,
+    # facing east, 2 m wide), 4 m ahead of its centre: y = t - 8 m over 16 s
+    t = np.round(np.arange(161) * 0.1, 6)
+    objs = [
+        Obj("ego", "EGO_VEHICLE", const(-100.0, t), const(50.0, t), const(0.0, t)),
+        Obj("car", "REGULAR_VEHICLE", const(0.0, t), const(0.0, t), const(0.0, t)),
+        Obj("ped", "PEDESTRIAN", const(4.0, t), t - 8.0, const(np.pi / 2, t), 0.6, 0.6),
+    ]
+    ctx = LogContext(make_log(objs, t, log_id="crossing"))
+    car = _cat(ctx, "REGULAR_VEHICLE")
+    peds = _cat(ctx, "PEDESTRIAN")
+    # RefAV: the crossing ends lateral_thresh past the car's centre line (y < 5 m), not past its
+    # left side (y <= 6 m); the approach starts lateral_thresh before its right side (y >= -6 m)
+    assert _span(ctx, P.being_crossed_by(car, peds, ctx), "car") == (2.0, 12.9)
+    assert _span(ctx, P.being_crossed_by(car, peds, ctx, lateral_thresh=3), "car") == (4.0, 10.9)
+    # with lateral_thresh = 0 the pass through the centre line still counts
+    assert _span(ctx, P.being_crossed_by(car, peds, ctx, lateral_thresh=0), "car") == (7.0, 8.0)
 
 
 def test_crossing_speed_threshold_from_config() -> None:
@@ -560,8 +588,8 @@ def test_library_reference_and_public_api() -> None:
 def test_config_rejects_inconsistent_values() -> None:
     with pytest.raises(ValueError, match="same_direction_max_deg"):
         MiningConfig(same_direction_max_deg=150, opposite_direction_min_deg=120)
-    with pytest.raises(ValueError, match="side_max_distance_m"):
-        MiningConfig(side_max_distance_m=0)
+    with pytest.raises(ValueError, match="following_max_gap_m"):
+        MiningConfig(following_max_gap_m=0)
     with pytest.raises(ValueError, match="turn_min_yaw_rate_deg_s"):
         MiningConfig(turn_min_yaw_rate_deg_s=-1)
     with pytest.raises(ValueError, match="timeout_s"):

@@ -63,7 +63,7 @@ def test_compact_reference_keeps_signatures_roles_and_examples_in_half_the_text(
     # one example per function, re-joined when the docstring wraps it over lines
     assert (
         "e.g. peds_in_front_of_vehicles = get_objects_in_relative_direction(vehicles, peds, log_dir, "
-        "direction='forward', within_distance=15)" in compact
+        "direction='forward', within_distance=15, lateral_thresh=1)" in compact
     )
     # sentences are not cut at abbreviations, markup is gone
     assert "(every motor vehicle incl. the ego:" in compact

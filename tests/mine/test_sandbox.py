@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +17,7 @@ from scenariominer.mine.sandbox import (
     ErrorKind,
     ProgramError,
     check_program,
+    declared_description,
     run_program,
     run_trusted_program,
 )
@@ -95,6 +97,17 @@ FORBIDDEN = {
     "with": "with open('x') as fh:\n    pass",
     "delete": "del log_dir",
     "rebind_predefined": "log_dir = 1",
+    "rebind_predefined_first": "output_dir = 'x'",
+    "description_not_first": "x = 1\ndescription = 'late'",
+    "description_twice": "description = 'a'\ndescription = 'b'",
+    "description_augmented": "description = 'a'\ndescription += 'b'",
+    "description_fstring": "description = f'{log_dir}'",
+    "description_call": "description = str(1)",
+    "description_number": "description = 1",
+    "description_tuple": "description, x = 'a', 1",
+    "description_chained": "description = x = 'a'",
+    "description_annotated": "description: str = 'a'",
+    "description_loop": "for description in ['a']:\n    pass",
     "rebind_function": "stationary = print",
     "walrus": "y = (x := 1)",
     "raise": "raise SystemExit",
@@ -229,6 +242,46 @@ def test_child_and_in_process_runs_agree(ctx: LogContext) -> None:
     assert np.array_equal(child.scenario.relations, local.scenario.relations)
     assert child.scenario.context is ctx and child.description == "vehicle with a bicycle to its right"
     assert list(child.scenario) == ["ego"]
+
+
+#: A program as RefAV writes them (RefAV ``exec``s it with ``log_dir`` and ``output_dir`` defined).
+REFAV_PROGRAM = """description = 'vehicle with a bicycle on its right'
+vehicles = get_objects_of_category(log_dir, category="VEHICLE")
+bicycles = get_objects_of_category(log_dir, category="BICYCLE")
+vehicles_with_bicycle_right = has_objects_in_relative_direction(
+    vehicles, bicycles, log_dir, direction='right', within_distance=5)
+output_scenario(vehicles_with_bicycle_right, description, log_dir, output_dir)
+"""
+
+
+def test_refav_programs_run_unchanged_with_their_own_description(ctx: LogContext) -> None:
+    assert check_program(REFAV_PROGRAM) is None
+    assert declared_description(REFAV_PROGRAM) == "vehicle with a bicycle on its right"
+    assert declared_description(GOOD) is None and declared_description("x = (") is None
+    for run in (run_program, run_trusted_program):
+        result = run(REFAV_PROGRAM, ctx, description="the query")
+        assert result.ok, result.error
+        assert result.description == "vehicle with a bicycle on its right"
+        assert result.scenario is not None and list(result.scenario) == ["ego"]
+    # the exception is for that one statement: later, the name is predefined as before
+    problem = check_program(REFAV_PROGRAM + "description = 'again'\n")
+    assert problem is not None and problem.line == 7
+    assert "only a first line description = '<text>'" in problem.message
+
+
+def test_mine_runs_a_refav_program_file(tmp_path: Path, av2_log_dir: Path) -> None:
+    from typer.testing import CliRunner
+
+    from scenariominer.cli import app
+
+    prog = tmp_path / "refav_program.txt"
+    prog.write_text(REFAV_PROGRAM, encoding="utf-8")
+    res = CliRunner().invoke(
+        app,
+        ["mine", "vehicle with a bicycle on its right", "--logs", str(av2_log_dir), "--program", str(prog)],
+    )
+    assert res.exit_code == 0, res.output
+    assert "status ok (given" in res.output and "1 log(s) match, 0 failed" in res.output
 
 
 def test_programs_may_use_loops_containers_and_constants(ctx: LogContext) -> None:

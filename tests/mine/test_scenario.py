@@ -193,6 +193,25 @@ def test_postprocess_drops_relations_between_far_apart_objects() -> None:
     assert postprocess_scenario(s2).relations.shape == (0, 3)
 
 
+def test_postprocess_unrefers_cells_whose_related_objects_were_all_dropped() -> None:
+    # RefAV refers a track at the timestamps of its remaining related objects: a cell whose every
+    # relation was beyond 50 m is no longer referred, and a track with no relation left is dropped
+    ctx = _ctx(MiningConfig(postprocess_min_run_timestamps=1))
+    ego, a = ctx.log.track_index("ego"), ctx.log.track_index("a")
+    rel = _rel(
+        ctx,
+        [("ego", 2, "a"), ("ego", 3, "a"), ("ego", 3, "c"), ("ego", 4, "c"), ("ego", 5, "c")]
+        + [("a", 2, "c"), ("a", 3, "c"), ("a", 4, "c")],
+    )
+    s = Scenario.from_mask(ctx, _mask(ctx, {"ego": [2, 3, 4, 5, 6], "a": [2, 3, 4]}), rel)
+    out = postprocess_scenario(s)
+    # frames 4 and 5 only had c (100 m away); frame 6 never had a related object and stays
+    assert np.flatnonzero(out.referred[ego]).tolist() == [2, 3, 6]
+    assert out.relations.tolist() == _rel(ctx, [("ego", 2, "a"), ("ego", 3, "a")]).tolist()
+    # a was only related to c, 90 m away: nothing of it is left
+    assert not out.referred[a].any()
+
+
 def test_public_api_of_the_mining_package() -> None:
     import scenariominer.mine as mine
 

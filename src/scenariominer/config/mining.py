@@ -178,17 +178,6 @@ class MiningConfig:
     """Thresholds of the atomic mining predicates that programs cannot set themselves.
 
     Attributes:
-        side_max_distance_m: default ``within_distance`` (metres, box to box) of
-            ``has_objects_in_relative_direction`` / ``get_objects_in_relative_direction`` for
-            ``'left'``/``'right'``: "a bicycle to its right" is beside the subject, at most about a
-            lane away (a lane is ~3.6 m, so the gap to an object in the next lane is ~2-3 m and to
-            one two lanes over ~6 m). RefAV's own examples use 4 m for objects beside a vehicle.
-        front_back_max_distance_m: default ``within_distance`` (metres) for ``'forward'``/
-            ``'backward'`` (RefAV's example "vehicle behind another vehicle" uses 25 m).
-        direction_lateral_m: default ``lateral_thresh`` (metres) of the same two predicates: how
-            far the related object's centre may lie beyond the subject's extent perpendicular to
-            the direction. 1 m keeps "to its right" beside the subject (not ahead or behind it) and
-            "in front" inside a corridor of about one lane (a 2 m wide car plus 1 m on each side).
         stationary_max_displacement_m: ``stationary`` holds for a track whose observed positions
             all fit in a box whose diagonal is below this (metres); RefAV uses 3 m because box
             centres of parked cars jitter by up to a metre over a log.
@@ -228,20 +217,21 @@ class MiningConfig:
             right of the stop sign's forward axis (RefAV: 7 m); the forward distance is an argument.
         stop_sign_min_behind_m: ... and at most this far (metres) behind the sign's plane (RefAV: 1 m).
         postprocess_min_timestamps: after a program ran, referred tracks referred at fewer than
-            this many timestamps are dropped as noise (RefAV: 2).
+            this many timestamps are dropped as noise (RefAV's docstring and its unused
+            ``filter_by_length``: 2; its code does not apply it).
         postprocess_min_run_timestamps: a run of ``k`` referred timestamps shorter than this
-            (``m``) is widened by ``(m - k) // 2`` timestamps on both sides (RefAV: 3, so a
-            single-frame hit becomes three frames).
+            (``m``) is widened by ``(m - k) // 2`` timestamps on both sides, so a single-frame
+            hit becomes three frames for ``m = 3`` (our choice: RefAV's docstring widens short
+            runs to 1.5 s, 15 frames at 10 Hz, but its code never calls that dilation).
         postprocess_max_relation_distance_m: relations whose objects never come closer than this
-            (metres, centre to centre) are dropped (RefAV: 50 m, the annotation verification range).
+            (metres, centre to centre, in the ground plane) at the relation's timestamps are
+            dropped, and with them the referred cells left without a related object (RefAV:
+            50 m, measured in 3-D).
         sandbox: limits for running untrusted programs.
         generation: the language-model program-generation loop.
         clip: the optional CLIP crop filter.
     """
 
-    side_max_distance_m: float = 4.0
-    front_back_max_distance_m: float = 25.0
-    direction_lateral_m: float = 1.0
     stationary_max_displacement_m: float = 3.0
     moving_min_speed_mps: float = 0.5
     heading_min_speed_mps: float = 1.0
@@ -269,8 +259,6 @@ class MiningConfig:
 
     def __post_init__(self) -> None:
         positive = {
-            "side_max_distance_m": self.side_max_distance_m,
-            "front_back_max_distance_m": self.front_back_max_distance_m,
             "stationary_max_displacement_m": self.stationary_max_displacement_m,
             "following_max_gap_m": self.following_max_gap_m,
             "following_max_lateral_m": self.following_max_lateral_m,
@@ -281,7 +269,6 @@ class MiningConfig:
             if not value > 0:
                 raise ValueError(f"mining.{name} must be > 0, got {value}")
         non_negative = {
-            "direction_lateral_m": self.direction_lateral_m,
             "moving_min_speed_mps": self.moving_min_speed_mps,
             "heading_min_speed_mps": self.heading_min_speed_mps,
             "turn_min_heading_change_deg": self.turn_min_heading_change_deg,

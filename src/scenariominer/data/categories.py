@@ -50,6 +50,10 @@ AV2_CATEGORIES: tuple[str, ...] = (
 EGO_CATEGORY = "EGO_VEHICLE"
 
 #: Category groups usable wherever a category is expected (mining predicates, filters).
+#:
+#: ``VEHICLE`` is every motor vehicle, the ego included, as RefAV's code defines it
+#: (``refAV/utils.py``; its nuScenes name ``CAR`` is not an Argoverse 2 category and is left out).
+#: A ``VEHICULAR_TRAILER`` is not motorised and is not a member: ask for it by name.
 CATEGORY_GROUPS: dict[str, frozenset[str]] = {
     "VEHICLE": frozenset(
         {
@@ -58,7 +62,6 @@ CATEGORY_GROUPS: dict[str, frozenset[str]] = {
             "BUS",
             "BOX_TRUCK",
             "TRUCK",
-            "VEHICULAR_TRAILER",
             "TRUCK_CAB",
             "SCHOOL_BUS",
             "ARTICULATED_BUS",

@@ -113,11 +113,14 @@ class MapIndex:
     types, intersection flags, crossings, drivable areas and lane graph) and derives the lane
     groupings RefAV's predicates use:
 
-    * *semantic lane*: lane segments joined along their straightest successor/predecessor
-      (turning lanes inside intersections stay alone); ``in_same_lane`` compares these;
-    * *road side*: semantic lanes joined with their same-direction neighbours;
-      ``on_relative_side_of_road`` compares these, and the opposite side is the road side
-      of an opposite-direction neighbour.
+    * *semantic lane* of a segment (:attr:`semantic_lanes`, :attr:`in_semantic_lane`): the
+      chain of segments continuing it straight backwards and forwards, one best-aligned
+      predecessor/successor at a time, as RefAV's ``get_semantic_lane`` (turning lanes inside
+      intersections stay alone); ``in_same_lane``, ``following``, ``at_stop_sign`` and
+      ``changing_lanes`` use it;
+    * *road side*: segments joined by their semantic-lane links and with their same-direction
+      neighbours (connected components); ``on_relative_side_of_road`` compares these, and the
+      opposite side is the road side of an opposite-direction neighbour.
 
     Args:
         hd_map: the vector map.
@@ -189,7 +192,12 @@ class MapIndex:
         return out
 
     def _straight_link(self, i: int, links: list[int]) -> int:
-        """The link of lane ``i`` best aligned with it among non-turning lanes (or -1)."""
+        """The link of lane ``i`` best aligned with it among non-turning lanes (or -1).
+
+        Candidates are ``links`` (successors or predecessors of ``i``) that are not turning
+        lanes of an intersection and whose direction is within 90 degrees of lane ``i``'s; the
+        one with the largest cosine wins (the first listed on a tie).
+        """
         best, best_cos = -1, 0.0
         for j in links:
             if self.lane_turn[j] in ("left", "right"):
@@ -198,6 +206,56 @@ class MapIndex:
             if cos > best_cos:
                 best, best_cos = j, cos
         return best
+
+    def _chain(self, start: int, links: list[list[int]], members: list[int], beside: set[int]) -> None:
+        """Extend ``members`` from lane ``start`` along its straightest ``links``, one lane at a time.
+
+        Stops at a lane without a straight link, at a lane already in the chain (a loop) and at
+        a lane that is a left/right neighbour of a chain member (``beside``, updated here), so
+        two lanes side by side never join one semantic lane.
+        """
+        cur = start
+        while True:
+            nxt = self._straight_link(cur, links[cur])
+            if nxt < 0 or nxt in members or nxt in beside:
+                return
+            members.append(nxt)
+            beside.update(int(j) for j in (self.left_neighbor[nxt], self.right_neighbor[nxt]) if j >= 0)
+            cur = nxt
+
+    @cached_property
+    def semantic_lanes(self) -> tuple[IntArray, ...]:
+        """Per lane segment, the segments of its *semantic lane* (RefAV's ``get_semantic_lane``).
+
+        For lane ``i``: ``i`` itself, then its best-aligned non-turning predecessor, that lane's,
+        and so on backwards, then its best-aligned non-turning successor chain forwards (see
+        :meth:`_straight_link`). A turning lane inside an intersection is a semantic lane of its
+        own. The relation is directed: where two lanes merge, both chains continue into the
+        merged lane, but the merged lane's chain goes back along one of them only; where a lane
+        splits, its chain follows one branch. Left/right neighbours never share a chain.
+        """
+        out: list[IntArray] = []
+        for i in range(self.n_lanes):
+            members = [i]
+            if self.lane_turn[i] not in ("left", "right"):
+                beside = {int(j) for j in (self.left_neighbor[i], self.right_neighbor[i]) if j >= 0}
+                self._chain(i, self.predecessors, members, beside)
+                self._chain(i, self.successors, members, beside)
+            out.append(np.asarray(members, dtype=np.int64))
+        return tuple(out)
+
+    @cached_property
+    def in_semantic_lane(self) -> BoolArray:
+        """``(L + 1, L + 1)`` bool: ``[i, j]`` is True when lane ``j`` is in lane ``i``'s semantic lane.
+
+        Row and column ``L`` (index ``-1``) are all False, so lane arrays that use -1 for "no
+        lane" index it directly: ``in_semantic_lane[lane_a, lane_b]``.
+        """
+        n = self.n_lanes
+        out = np.zeros((n + 1, n + 1), dtype=bool)
+        for i, members in enumerate(self.semantic_lanes):
+            out[i, members] = True
+        return out
 
     def _groups(self, pairs: list[tuple[int, int]]) -> IntArray:
         n = self.n_lanes
@@ -208,27 +266,13 @@ class MapIndex:
         _, labels = connected_components(graph, directed=False)
         return np.asarray(labels, dtype=np.int64)
 
-    @cached_property
-    def semantic_lane(self) -> IntArray:
-        """``(L,)`` group id of the colloquial lane each segment belongs to (see class doc)."""
-        pairs: list[tuple[int, int]] = []
-        for i in range(self.n_lanes):
-            if self.lane_turn[i] in ("left", "right"):
-                continue
-            for links in (self.successors[i], self.predecessors[i]):
-                j = self._straight_link(i, links)
-                if j >= 0:
-                    pairs.append((i, j))
-        return self._groups(pairs)
-
     def _same_direction(self, i: int, j: int) -> bool:
         return bool(np.cos(self.lane_direction_rad[i] - self.lane_direction_rad[j]) > 0)
 
     @cached_property
     def road_side(self) -> IntArray:
         """``(L,)`` group id of the side of the road each segment is on (see class doc)."""
-        sem = self.semantic_lane
-        pairs = [(i, int(j)) for i in range(self.n_lanes) for j in np.flatnonzero(sem == sem[i]) if j != i]
+        pairs = [(i, int(j)) for i, members in enumerate(self.semantic_lanes) for j in members[1:]]
         for i in range(self.n_lanes):
             for j in (int(self.left_neighbor[i]), int(self.right_neighbor[i])):
                 if j >= 0 and self._same_direction(i, j):

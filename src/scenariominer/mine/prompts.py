@@ -46,7 +46,7 @@ __all__ = [
 ]
 
 #: Version of the prompt texts below; part of every program-cache key.
-PROMPT_VERSION = "mining-program/4"
+PROMPT_VERSION = "mining-program/5"
 
 _ROLE = (
     "You write short Python programs that find driving scenarios in a recorded log. A program "

@@ -396,10 +396,15 @@ def reverse_relationship(func: Callable[..., Scenario] | Scenario) -> Callable[.
 def postprocess_scenario(scenario: Scenario, config: MiningConfig | None = None) -> Scenario:
     """RefAV's clean-up of a program's output before it is stored or evaluated.
 
-    1. Referred tracks referred at fewer than ``postprocess_min_timestamps`` timestamps are
+    1. Relations between two tracks whose centres never come closer than
+       ``postprocess_max_relation_distance_m`` at the relation's timestamps are dropped (RefAV's
+       ``filter_by_relationship_distance``). A referred object is referred *because of* its
+       related objects, so, as in RefAV (whose referred timestamps are those of the remaining
+       related objects), a cell that had related objects and has none left is no longer referred,
+       and a track that had relations and has none left is dropped altogether. Cells that never
+       had a related object (a non-relational scenario) are kept.
+    2. Referred tracks referred at fewer than ``postprocess_min_timestamps`` timestamps are
        dropped (one-frame hits are annotation noise).
-    2. Relations between two tracks whose centres never come closer than
-       ``postprocess_max_relation_distance_m`` are dropped.
     3. A run of ``k`` referred timestamps shorter than ``m = postprocess_min_run_timestamps`` is
        widened by ``(m - k) // 2`` timestamps on both sides (inside the track's observations), so
        a single-frame hit becomes a three-frame run for ``m = 3``.
@@ -411,12 +416,8 @@ def postprocess_scenario(scenario: Scenario, config: MiningConfig | None = None)
     cfg = config or scenario.context.config
     ctx = scenario.context
     referred = scenario.referred.copy()
-    counts = referred.sum(axis=1)
-    referred[counts < cfg.postprocess_min_timestamps] = False
 
     rel = scenario.relations
-    if rel.shape[0]:
-        rel = rel[referred[rel[:, 0], rel[:, 1]]]
     if rel.shape[0]:
         x, y = ctx.center_xy_m
         d = np.hypot(
@@ -426,7 +427,19 @@ def postprocess_scenario(scenario: Scenario, config: MiningConfig | None = None)
         pairs, inverse = np.unique(rel[:, [0, 2]], axis=0, return_inverse=True)
         close = np.zeros(pairs.shape[0], dtype=bool)
         np.logical_or.at(close, inverse.reshape(-1), d < cfg.postprocess_max_relation_distance_m)
-        rel = rel[close[inverse.reshape(-1)]]
+        kept = rel[close[inverse.reshape(-1)]]
+        had = np.zeros_like(referred)
+        had[rel[:, 0], rel[:, 1]] = True
+        has = np.zeros_like(referred)
+        has[kept[:, 0], kept[:, 1]] = True
+        referred &= ~(had & ~has)
+        referred[had.any(axis=1) & ~has.any(axis=1)] = False
+        rel = kept
+
+    counts = referred.sum(axis=1)
+    referred[counts < cfg.postprocess_min_timestamps] = False
+    if rel.shape[0]:
+        rel = rel[referred[rel[:, 0], rel[:, 1]]]
 
     min_run = cfg.postprocess_min_run_timestamps
     if min_run > 1 and referred.any():

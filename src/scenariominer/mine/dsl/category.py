@@ -24,10 +24,10 @@ def get_objects_of_category(log_dir: LogContext, category: str) -> Scenario:
         category: an Argoverse 2 category name such as ``"REGULAR_VEHICLE"``, ``"PEDESTRIAN"``,
             ``"BICYCLE"``, ``"BUS"``, ``"EGO_VEHICLE"``, or a group: ``"VEHICLE"`` (every motor
             vehicle incl. the ego: REGULAR_VEHICLE, LARGE_VEHICLE, BUS, BOX_TRUCK, TRUCK,
-            VEHICULAR_TRAILER, TRUCK_CAB, SCHOOL_BUS, ARTICULATED_BUS, RAILED_VEHICLE, MOTORCYCLE,
-            EGO_VEHICLE), ``"VULNERABLE_ROAD_USER"`` or ``"ANY"``. Case-insensitive.
-            ``"VEHICLE"`` has no BICYCLE; where a description's "vehicle" includes bicycles,
-            combine both with ``scenario_or``.
+            TRUCK_CAB, SCHOOL_BUS, ARTICULATED_BUS, RAILED_VEHICLE, MOTORCYCLE, EGO_VEHICLE),
+            ``"VULNERABLE_ROAD_USER"`` or ``"ANY"``. Case-insensitive. ``"VEHICLE"`` has no
+            BICYCLE and no VEHICULAR_TRAILER (not motorised); where a description's "vehicle"
+            includes them, combine them with ``scenario_or``.
 
     Returns:
         A scenario whose referred objects are all objects of the category, each at all of its

@@ -184,9 +184,12 @@ def in_same_lane(track_candidates: Scenario, related_candidates: Scenario, log_d
     """Track candidates that are in the same lane as a related candidate (needs the HD map).
 
     SUBJECT = ``track_candidates`` (returned). REFERENCE = ``related_candidates`` (returned as
-    related objects). Two objects share a lane when the lane segments under their centres belong
-    to the same lane: the chain of segments continuing each other straight ahead (a turning lane
-    inside an intersection is a lane of its own).
+    related objects). The subject's lane is the chain of lane segments continuing the segment
+    under its centre straight backwards and forwards (one best-aligned segment at a time; a
+    turning lane inside an intersection is a lane of its own); the relation holds when the
+    segment under the related object's centre is in that chain. As in RefAV it is directed:
+    where lanes merge or split, ``in_same_lane(a, b)`` may hold while ``in_same_lane(b, a)``
+    does not. Objects in the neighbouring lane are never in the same lane.
 
     Args:
         track_candidates: subject objects (scenario).
@@ -209,10 +212,8 @@ def in_same_lane(track_candidates: Scenario, related_candidates: Scenario, log_d
     pairs = _pairs(tc, rc)
     if pairs.rows.size == 0 or pairs.cols.size == 0:
         return tc.restrict(np.zeros_like(tc.referred))
-    sem = np.append(hd.semantic_lane, -1)
-    gr = sem[lane[pairs.rows]][:, None, :]
-    gc = sem[lane[pairs.cols]][None, :, :]
-    return _relational_result(tc, pairs, (gr >= 0) & (gr == gc))
+    same = hd.in_semantic_lane[lane[pairs.rows][:, None, :], lane[pairs.cols][None, :, :]]
+    return _relational_result(tc, pairs, same)
 
 
 def on_relative_side_of_road(
@@ -259,8 +260,9 @@ def at_stop_sign(track_candidates: Scenario, log_dir: LogContext, forward_thresh
     Uses the log's STOP_SIGN objects. The object's centre must lie in front of the sign (on the
     side its face points to) by at most ``forward_thresh`` m and at least 1 m behind the sign's
     plane, at most 7 m to the right of the sign; the object must face the sign (heading more
-    than 90 degrees from the sign's); and its lane must be the lane the sign controls (the
-    nearest vehicle lane within 5 m of the sign that runs toward the sign's face). This may also
+    than 90 degrees from the sign's); and its lane segment must be in the semantic lane (see
+    :func:`in_same_lane`) of the lane the sign controls (the nearest vehicle lane within 5 m of
+    the sign that runs toward the sign's face). This may also
     match vehicles parked near a stop sign. Thresholds: ``MiningConfig.stop_sign_*``.
 
     Args:
@@ -290,9 +292,8 @@ def at_stop_sign(track_candidates: Scenario, log_dir: LogContext, forward_thresh
     yaw = ctx.yaw_rad
     dyaw = np.degrees(np.abs(wrap_angle(yaw[pairs.rows][:, None, :] - yaw[pairs.cols][None, :, :])))
     sign_lane = ctx.memo(("stop_sign_lanes",), lambda: _stop_sign_lanes(ctx, hd))
-    sem = np.append(hd.semantic_lane, -1)
-    obj_group = sem[lane[pairs.rows]][:, None, :]
-    sign_group = sem[sign_lane[pairs.cols]][None, :, None]
+    # the object's lane is in the semantic lane of the lane the sign controls
+    in_sign_lane = hd.in_semantic_lane[sign_lane[pairs.cols][None, :, None], lane[pairs.rows][:, None, :]]
     with np.errstate(invalid="ignore"):
         ok = (
             (x > -cfg.stop_sign_min_behind_m)
@@ -300,8 +301,7 @@ def at_stop_sign(track_candidates: Scenario, log_dir: LogContext, forward_thresh
             & (y < 0)
             & (y > -cfg.stop_sign_max_right_m)
             & (dyaw >= 90)
-            & (obj_group >= 0)
-            & (obj_group == sign_group)
+            & in_sign_lane
         )
     return _relational_result(tc, pairs, ok)
 

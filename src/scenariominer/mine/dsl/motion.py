@@ -222,7 +222,7 @@ def _lane_change_masks(ctx: LogContext) -> tuple[BoolArray, BoolArray]:
     hd = ctx.require_map("changing_lanes")
     lane = ctx.lane_index("changing_lanes")
     lane_dir = ctx.lane_direction_rad("changing_lanes")
-    sem = hd.semantic_lane
+    in_lane = hd.in_semantic_lane
     n, t = lane.shape
     vx, vy = ctx.log.vx_mps, ctx.log.vy_mps
     # velocity across the lane, positive toward the lane's left
@@ -236,12 +236,13 @@ def _lane_change_masks(ctx: LogContext) -> tuple[BoolArray, BoolArray]:
     p = np.where(both, prev, 0)
     c = np.where(both, lane, 0)
 
-    def neighbour_group(nb: IntArray) -> IntArray:
-        target = nb[p]
-        return np.where(target >= 0, sem[np.maximum(target, 0)], -2)
+    def into_neighbour(nb: IntArray) -> BoolArray:
+        # the new lane and the old lane's neighbour belong to one semantic lane (either way round)
+        target = nb[p]  # -1 (no neighbour) indexes the all-False last row/column
+        return np.asarray(both & (in_lane[target, c] | in_lane[c, target]))
 
-    to_left = both & (neighbour_group(hd.left_neighbor) == sem[c])
-    to_right = both & (neighbour_group(hd.right_neighbor) == sem[c])
+    to_left = into_neighbour(hd.left_neighbor)
+    to_right = into_neighbour(hd.right_neighbor)
     thr = cfg.lane_change_min_lateral_speed_mps
     with np.errstate(invalid="ignore"):
         moving_left = ctx.valid & (v_across >= thr) & aligned

@@ -64,8 +64,8 @@ def has_objects_in_relative_direction(
     direction: str,
     min_number: int = 1,
     max_number: float = inf,
-    within_distance: float | None = None,
-    lateral_thresh: float | None = None,
+    within_distance: float = 50,
+    lateral_thresh: float = inf,
 ) -> Scenario:
     """Track candidates that have related candidates in a direction SEEN FROM THE TRACK CANDIDATE.
 
@@ -87,6 +87,11 @@ def has_objects_in_relative_direction(
     every timestamp the in-direction objects are ranked by that distance and the nearest
     ``max_number`` are kept; the subject matches when at least ``min_number`` are kept.
 
+    The defaults (RefAV's) cover the whole half-plane on that side up to 50 m. Narrow them for
+    "beside"/"just ahead": ``within_distance=4, lateral_thresh=1`` keeps "a bicycle to its
+    right" beside the subject, at most about a lane away; ``lateral_thresh=1`` keeps "in front"
+    inside a corridor of about one lane.
+
     Args:
         track_candidates: subject objects (scenario), e.g. vehicles.
         related_candidates: reference objects to look for (scenario), e.g. bicycles.
@@ -95,13 +100,10 @@ def has_objects_in_relative_direction(
             (``'front'`` and ``'behind'``/``'back'`` are accepted as aliases).
         min_number: least number of related objects needed at a timestamp. Default 1.
         max_number: at most this many nearest related objects are kept as related. Default inf.
-        within_distance: maximum box-to-box distance, metres. Default None: 4 m for
-            ``'left'``/``'right'`` (beside it, at most about a lane away) and 25 m for
-            ``'forward'``/``'backward'``. Pass a number (e.g. 50) to search farther.
+        within_distance: maximum box-to-box distance, metres. Default 50.
         lateral_thresh: how far (m) the related object's centre may lie outside the subject's
-            extent perpendicular to ``direction``. Default None: 1 m (beside the subject for
-            left/right, inside about one lane for forward/backward). Pass ``inf`` for the whole
-            half-plane.
+            extent perpendicular to ``direction``. Default inf (the whole half-plane); 1 keeps
+            it beside the subject for left/right, inside about one lane for forward/backward.
 
     Returns:
         The subset of ``track_candidates`` at the timestamps where enough related candidates are
@@ -109,7 +111,7 @@ def has_objects_in_relative_direction(
 
     Example:
         vehicles_with_bicycle_right = has_objects_in_relative_direction(
-            vehicles, bicycles, log_dir, direction='right')
+            vehicles, bicycles, log_dir, direction='right', within_distance=4, lateral_thresh=1)
         cars_with_2_peds_ahead = has_objects_in_relative_direction(
             cars, peds, log_dir, direction='forward', min_number=2, within_distance=20)
     """
@@ -121,15 +123,8 @@ def has_objects_in_relative_direction(
     )
     lo = _number(min_number, "min_number", func, minimum=0)
     hi = _number(max_number, "max_number", func, minimum=0)
-    cfg = ctx.config
-    if within_distance is None:
-        within_distance = (
-            cfg.side_max_distance_m if direction in ("left", "right") else cfg.front_back_max_distance_m
-        )
     dist_max = _number(within_distance, "within_distance", func, minimum=0)
-    lat = _number(
-        cfg.direction_lateral_m if lateral_thresh is None else lateral_thresh, "lateral_thresh", func, 0
-    )
+    lat = _number(lateral_thresh, "lateral_thresh", func, minimum=0)
     pairs = _pairs(tc, rc)
     if pairs.rows.size == 0 or pairs.cols.size == 0:
         return tc.restrict(np.zeros_like(tc.referred)) if lo > 0 else tc
@@ -154,8 +149,8 @@ def get_objects_in_relative_direction(
     direction: str,
     min_number: int = 0,
     max_number: float = inf,
-    within_distance: float | None = None,
-    lateral_thresh: float | None = None,
+    within_distance: float = 50,
+    lateral_thresh: float = inf,
 ) -> Scenario:
     """The RELATED candidates that lie in a direction of the track candidates (roles reversed).
 
@@ -174,16 +169,16 @@ def get_objects_in_relative_direction(
             many related candidates in the direction. Default 0.
         max_number: per track candidate and timestamp, only the nearest ``max_number`` related
             candidates are returned. Default inf.
-        within_distance: maximum box-to-box distance, metres. Default None: 4 m for
-            ``'left'``/``'right'``, 25 m for ``'forward'``/``'backward'``.
-        lateral_thresh: as in :func:`has_objects_in_relative_direction`, metres. Default None: 1 m.
+        within_distance: maximum box-to-box distance, metres. Default 50.
+        lateral_thresh: as in :func:`has_objects_in_relative_direction`, metres. Default inf
+            (the whole half-plane); 1 keeps about one lane.
 
     Returns:
         A scenario whose referred objects are subsets of ``related_candidates``.
 
     Example:
         peds_in_front_of_vehicles = get_objects_in_relative_direction(
-            vehicles, peds, log_dir, direction='forward', within_distance=15)
+            vehicles, peds, log_dir, direction='forward', within_distance=15, lateral_thresh=1)
     """
     result = has_objects_in_relative_direction(
         track_candidates,
@@ -324,7 +319,9 @@ def being_crossed_by(
     the related object itself moves across it at more than 0.2 m/s (its own ground velocity, so
     a parked car the subject drives past does not cross it). The returned timestamps cover the
     related object's pass while it stays within ``forward_thresh`` m of the subject's box on
-    that side and within ``lateral_thresh`` m beyond the subject's sides, moving across.
+    that side and keeps moving across: from ``lateral_thresh`` m before the subject's side it
+    approaches (``'forward'``: its left or right side) until ``lateral_thresh`` m past the
+    subject's centre line.
 
     Args:
         track_candidates: subject objects that are crossed (scenario), e.g. vehicles.
@@ -337,7 +334,8 @@ def being_crossed_by(
             right across its front; for ``'left'``: from behind to ahead along its left side),
             ``'counterclockwise'`` (the reverse) or ``'either'``. Default ``'either'``.
         forward_thresh: how far the half-midplane extends beyond the subject's box, metres. Default 10.
-        lateral_thresh: how far before/after the subject's sides the crossing is tracked, metres. Default 5.
+        lateral_thresh: the crossing is tracked from this far before the subject's side it
+            comes from until this far past the subject's centre line, metres. Default 5.
 
     Returns:
         The subset of ``track_candidates`` at the timestamps of being crossed, with the crossing
@@ -368,11 +366,15 @@ def being_crossed_by(
     v_prev = np.full_like(v, np.nan)
     v_prev[..., 1:] = v[..., :-1]
     with np.errstate(invalid="ignore"):
-        in_band = pairs.active & (u >= hu) & (u <= hu + reach) & (np.abs(v) <= hv + lat)
-        up = in_band & (dv > thr)
-        down = in_band & (dv < -thr)
-        up_event = up & (v_prev < 0) & (v >= 0)
-        down_event = down & (v_prev > 0) & (v <= 0)
+        ahead = pairs.active & (u >= hu) & (u <= hu + reach)
+        passed_up = (v_prev < 0) & (v >= 0)
+        passed_down = (v_prev > 0) & (v <= 0)
+        # approach: from lateral_thresh beyond the subject's side; departure: until lateral_thresh
+        # past its centre line (RefAV); the cell of the pass itself always counts
+        up = ahead & (dv > thr) & (v >= -(hv + lat)) & ((v < lat) | passed_up)
+        down = ahead & (dv < -thr) & (v <= hv + lat) & ((v > -lat) | passed_down)
+        up_event = up & passed_up
+        down_event = down & passed_down
     crossing = np.zeros_like(up)
     if in_direction in ("counterclockwise", "either"):
         crossing |= _runs_containing(up, up_event)
@@ -436,10 +438,10 @@ def following(track_candidates: Scenario, related_candidates: Scenario, log_dir:
     the LEAD objects (returned as related objects). Holds at a timestamp when both move
     (≥ 0.5 m/s), the lead's centre is ahead of the follower's front bumper by at most 25 m, both
     travel in similar directions (cosine of the angle between them > 0.5), and the lead is in
-    the follower's lane: with an HD map the lead's lane is the follower's lane, the lane
-    continuing it, or a successor of it (and the lead is within 5 m sideways); without a map
-    the lead's centre is at most 1.75 m to either side of the follower's centre line.
-    Thresholds: ``MiningConfig.following_*``.
+    the follower's lane: with an HD map the lead's lane segment is in the follower's semantic
+    lane (as in :func:`in_same_lane`) or a successor of the follower's segment (and the lead is
+    within 5 m sideways); without a map the lead's centre is at most 1.75 m to either side of
+    the follower's centre line. Thresholds: ``MiningConfig.following_*``.
 
     Args:
         track_candidates: follower candidates (scenario).
@@ -475,13 +477,11 @@ def following(track_candidates: Scenario, related_candidates: Scenario, log_dir:
             lane = ctx.lane_index(func)
             lr = lane[pairs.rows][:, None, :]
             lc = lane[pairs.cols][None, :, :]
-            sem = hd.semantic_lane
-            known = (lr >= 0) & (lc >= 0)
-            same = known & (sem[np.maximum(lr, 0)] == sem[np.maximum(lc, 0)])
-            succ = np.zeros((hd.n_lanes, hd.n_lanes), dtype=bool)
+            # the lead's lane is in the follower's semantic lane, or a successor of its lane
+            succ = np.zeros((hd.n_lanes + 1, hd.n_lanes + 1), dtype=bool)
             for i, ss in enumerate(hd.successors):
                 succ[i, ss] = True
-            same |= known & succ[np.maximum(lr, 0), np.maximum(lc, 0)]
+            same = hd.in_semantic_lane[lr, lc] | succ[lr, lc]
             ok &= same & (np.abs(y) < 5.0)
         else:
             ok &= np.abs(y) <= cfg.following_max_lateral_m

@@ -20,11 +20,15 @@ Untrusted programs go through two barriers:
    container methods and ``np.inf``-style constants, and any name that is neither a mining
    function, a safe builtin (``len min max range abs sorted list dict set tuple enumerate zip
    bool int float str sum any all round print``), a predefined variable, nor assigned by the
-   program itself. There is therefore no route to ``__class__``/``__subclasses__``,
-   ``__globals__``, frames (``gi_frame``), ``str.format`` field look-ups, ``open``, ``eval``,
-   ``exec``, ``getattr`` or modules. Definitions are refused rather than checked because mining
-   programs are straight-line compositions: allowing ``def``/``lambda`` would only add
-   recursion and hidden control flow.
+   program itself; predefined names and mining functions cannot be reassigned. There is
+   therefore no route to ``__class__``/``__subclasses__``, ``__globals__``, frames
+   (``gi_frame``), ``str.format`` field look-ups, ``open``, ``eval``, ``exec``, ``getattr`` or
+   modules. One assignment to a predefined name is allowed, for RefAV programs, which all begin
+   with ``description = '...'``: a FIRST statement assigning a plain string literal to
+   ``description``; the program then sees (and passes to ``output_scenario``) that description,
+   as in RefAV, and :func:`declared_description` reads it. Definitions are refused rather than
+   checked because mining programs are straight-line compositions: allowing ``def``/``lambda``
+   would only add recursion and hidden control flow.
 2. :func:`run_program` executes the checked program in a separate process (``forkserver``,
    preloaded with the predicate library) with an address-space limit (``RLIMIT_AS``), a CPU
    limit, no file writes (``RLIMIT_FSIZE = 0``) and a wall-clock deadline enforced by the host,
@@ -49,6 +53,7 @@ from scenariominer.mine.sandbox.check import (
     ProgramError,
     ProgramResult,
     check_program,
+    declared_description,
 )
 from scenariominer.mine.sandbox.execute import (
     run_trusted_program,
@@ -65,6 +70,7 @@ __all__ = [
     "ProgramError",
     "ProgramResult",
     "check_program",
+    "declared_description",
     "run_program",
     "run_trusted_program",
 ]

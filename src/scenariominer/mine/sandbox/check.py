@@ -48,6 +48,11 @@ PREDEFINED_NAMES: frozenset[str] = frozenset(
     {"log_dir", "log", "description", "output_dir", "inf", "np", "math"}
 )
 
+#: The one predefined name a program may assign, and only in its first statement, to a plain
+#: string literal: every RefAV program begins with ``description = '...'`` (RefAV ``exec``s the
+#: program, so that value is the description it passes to ``output_scenario``).
+DECLARABLE_NAME = "description"
+
 #: Attribute names a program may read on any object (container methods).
 ALLOWED_ATTRIBUTES: frozenset[str] = frozenset({"append", "extend", "items", "keys", "values", "get"})
 
@@ -237,6 +242,35 @@ def _is_dunder(name: str) -> bool:
     return name.startswith("__")
 
 
+def _declaration(tree: ast.Module) -> tuple[ast.Name, str] | None:
+    """The target and text of a leading ``description = '<string literal>'`` statement, if any."""
+    first = tree.body[0] if tree.body else None
+    if (
+        isinstance(first, ast.Assign)
+        and len(first.targets) == 1
+        and isinstance(first.targets[0], ast.Name)
+        and first.targets[0].id == DECLARABLE_NAME
+        and isinstance(first.value, ast.Constant)
+        and isinstance(first.value.value, str)
+    ):
+        return first.targets[0], first.value.value
+    return None
+
+
+def declared_description(source: str) -> str | None:
+    """The string a program assigns to ``description`` in its first statement (RefAV style), if any.
+
+    Only a plain string literal counts (``description = 'vehicle turning left'``); a program
+    that does not parse, or starts otherwise, declares none.
+    """
+    try:
+        tree = ast.parse(source, filename=PROGRAM_FILENAME, mode="exec")
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return None
+    found = _declaration(tree)
+    return None if found is None else found[1]
+
+
 def check_program(
     source: str,
     config: SandboxConfig | None = None,
@@ -276,6 +310,8 @@ def check_program(
             f"the program has {len(nodes)} syntax nodes; at most {cfg.max_ast_nodes} are allowed",
         )
     assigned = {n.id for n in nodes if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
+    found = _declaration(tree)
+    declaration = None if found is None else found[0]
 
     for node in nodes:
         reason = _FORBIDDEN_REASONS.get(type(node))
@@ -286,8 +322,17 @@ def check_program(
         if isinstance(node, ast.Name):
             if _is_dunder(node.id):
                 return _forbidden(node, f"the name {node.id!r} is not allowed (no names starting with '__')")
-            if isinstance(node.ctx, ast.Store) and node.id in PREDEFINED_NAMES | allowed_funcs:
-                return _forbidden(node, f"do not assign to {node.id!r}; it is predefined")
+            if (
+                isinstance(node.ctx, ast.Store)
+                and node.id in PREDEFINED_NAMES | allowed_funcs
+                and node is not declaration
+            ):
+                hint = (
+                    " (only a first line description = '<text>' with a plain string may set it)"
+                    if node.id == DECLARABLE_NAME
+                    else ""
+                )
+                return _forbidden(node, f"do not assign to {node.id!r}; it is predefined{hint}")
             if isinstance(node.ctx, ast.Load) and node.id not in known and node.id not in assigned:
                 hint = _DENIED_CALL_HINTS.get(node.id) or (
                     "it is neither a mining function, an allowed builtin, nor a variable the program assigns"
