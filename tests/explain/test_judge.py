@@ -12,7 +12,7 @@ from scenariominer.explain.baseline import rule_candidates
 from scenariominer.explain.categories import CategorySet
 from scenariominer.explain.classify import ClassificationStatus
 from scenariominer.explain.facts import EventFacts, rules_explanation
-from scenariominer.explain.judge import Judge, allowed_categories, judge_event, rules_only
+from scenariominer.explain.judge import Judge, allowed_categories, judge_event, rules_only, tidy_cut_text
 from scenariominer.llm import ChatClient
 from scenariominer.tags.vocab import HeadingTag, PositionTag
 from scenariominer.testing import ScriptedBackend
@@ -92,3 +92,13 @@ def test_pedestrian_confusion_counts_per_judge() -> None:
         "llm": {("L", "p1"): ["obj_crossing"], ("L", "p2"): ["x"]},
     }
     assert pedestrian_confusion(preds, peds, "obj_crossing") == {"rules": (0, 1), "llm": (1, 2)}
+
+
+def test_cut_off_texts_end_at_a_sentence_or_clause() -> None:
+    assert tidy_cut_text("Short one.", 100) == "Short one."
+    long = "A car at 41.5 km/h moves in from the left lane ahead of the ego. It is 3 m aw"
+    assert (
+        tidy_cut_text(long, len(long)) == "A car at 41.5 km/h moves in from the left lane ahead of the ego."
+    )
+    clause = "The pedestrian walks across the road ahead of the ego, 4 m away and the ego"
+    assert tidy_cut_text(clause, len(clause)) == "The pedestrian walks across the road ahead of the ego …"

@@ -29,7 +29,8 @@ def test_real_log_yields_described_pending_events(outcome: tuple[Log, LogOutcome
     assert result.status is LogStatus.ANALYZED
     assert result.records, "the sample log has braking with risky objects"
     for r in result.records:
-        assert r.category == "pending" and r.llm_status == "pending"
+        assert r.llm_status == "pending" and r.category == r.baseline_category  # the rules' result, for now
+        assert f"smallest gap: {r.min_distance_m:.1f} m" in r.facts
         assert r.tag_description.startswith("Overview: a ")
         assert r.guest_id in set(log.track_ids.tolist())
         assert r.peak_decel_mps2 >= 0.0 and r.min_ttc_s > 0.0

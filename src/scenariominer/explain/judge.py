@@ -17,6 +17,7 @@ generate); otherwise ``category`` is a JSON-schema enum of the allowed names.
 from __future__ import annotations
 
 import dataclasses
+import re
 from collections.abc import Callable, Sequence
 from enum import StrEnum
 from typing import Any, Literal
@@ -26,8 +27,6 @@ from pydantic import BaseModel, Field, create_model
 
 from scenariominer.explain.categories import NOT_RELEVANT, UNKNOWN_BUT_RELEVANT, CategorySet
 from scenariominer.explain.classify import (
-    DESCRIPTION_MAX_CHARS,
-    EXPLANATION_MAX_CHARS,
     Classification,
     ClassificationStatus,
     ask,
@@ -36,7 +35,23 @@ from scenariominer.explain.facts import EventFacts, rules_explanation
 from scenariominer.explain.prompts import judge_messages
 from scenariominer.llm.client import ChatClient
 
-__all__ = ["Judge", "allowed_categories", "judge_event", "rejudge_events", "rules_only"]
+_SENTENCE_END = re.compile(r"[.;](?=\s|$)")  # not the point of "3.2"
+_CLAUSE_END = re.compile(r",(?=\s)")
+
+#: Longest description (characters) the judgement's schema allows: about 15 words.
+JUDGE_DESCRIPTION_MAX_CHARS = 100
+#: Longest explanation (characters): about 25 words with numbers.
+JUDGE_EXPLANATION_MAX_CHARS = 160
+
+__all__ = [
+    "JUDGE_DESCRIPTION_MAX_CHARS",
+    "JUDGE_EXPLANATION_MAX_CHARS",
+    "Judge",
+    "allowed_categories",
+    "judge_event",
+    "rejudge_events",
+    "rules_only",
+]
 
 
 class Judge(StrEnum):
@@ -68,8 +83,8 @@ def allowed_categories(judge: Judge, candidates: Sequence[str], categories: Cate
 
 def _answer_model(allowed: Sequence[str]) -> type[BaseModel]:
     fields: dict[str, Any] = {
-        "description": (str, Field(max_length=DESCRIPTION_MAX_CHARS)),
-        "explanation": (str, Field(max_length=EXPLANATION_MAX_CHARS)),
+        "description": (str, Field(max_length=JUDGE_DESCRIPTION_MAX_CHARS)),
+        "explanation": (str, Field(max_length=JUDGE_EXPLANATION_MAX_CHARS)),
     }
     if len(allowed) > 1:
         category_type: Any = Literal[tuple(allowed)]  # type: ignore[valid-type]
@@ -119,9 +134,31 @@ def judge_event(
     text = facts if isinstance(facts, str) else facts.text()
     messages = judge_messages(text, allowed, categories)
     outcome = ask(client, messages, _answer_model(allowed), max_tokens=max_tokens)
-    if len(allowed) == 1 and outcome.is_valid:
-        outcome = dataclasses.replace(outcome, category=allowed[0])
+    if outcome.is_valid:
+        outcome = dataclasses.replace(
+            outcome,
+            category=allowed[0] if len(allowed) == 1 else outcome.category,
+            description=tidy_cut_text(outcome.description, JUDGE_DESCRIPTION_MAX_CHARS),
+            explanation=tidy_cut_text(outcome.explanation, JUDGE_EXPLANATION_MAX_CHARS),
+        )
     return outcome
+
+
+def tidy_cut_text(text: str, max_chars: int) -> str:
+    """A text the schema's length bound cut off, ended at its last full sentence or clause.
+
+    Small models write up to the bound; a cut-off text is trimmed back to its last ``.``/``;``
+    (else its last comma, if that keeps half of it) and marked with ``…``. Texts shorter than the
+    bound are returned unchanged.
+    """
+    text = text.strip()
+    if len(text) < max_chars - 1:
+        return text
+    for pattern, end in ((_SENTENCE_END, "."), (_CLAUSE_END, " …")):
+        cuts = [m.start() for m in pattern.finditer(text)]
+        if cuts and cuts[-1] >= len(text) // 2:
+            return text[: cuts[-1]].rstrip() + end
+    return text.rstrip() + " …"
 
 
 def rejudge_events(

@@ -139,7 +139,7 @@ def build_messages(
 # ---------------------------------------------------------------- judgement from facts (v3)
 
 #: Version of the judgement prompt below (hybrid and LLM-alone judges); stored with every result.
-JUDGE_PROMPT_VERSION = "braking-judge/3"
+JUDGE_PROMPT_VERSION = "braking-judge/4"
 
 _JUDGE_ROLE = (
     "You explain why an automated vehicle (the ego) braked, from facts measured in its driving log "
@@ -147,11 +147,16 @@ _JUDGE_ROLE = (
 )
 
 _JUDGE_TASK = """Answer with one JSON object:
-- "category": one of the allowed category names given with the facts;
-- "description": one sentence, in your own words, saying what the guest did that made the ego brake;
-- "explanation": one sentence giving the concrete facts (who, where, speeds, gap in metres, time to \
-collision) that show this category.
-Use only the numbers and positions given in the facts."""
+- "category": one of the allowed category names given with the facts (omit it when the category is given);
+- "description": at most 15 words, in your own words: what the guest did that made the ego brake;
+- "explanation": at most 25 words: the facts that show it (where the guest was, speeds, gap, time to \
+collision). Do not repeat the description.
+Use only numbers given in the facts.
+
+Example answer for a car that moved in from the next lane:
+{"category": "cut_in", "description": "A car from the left lane moves in just ahead of the ego.", \
+"explanation": "The car veers right from front-left to front, 6.2 m ahead at 41 km/h; time to collision \
+1.9 s, so the ego brakes at 3.1 m/s²."}"""
 
 
 def judge_system_prompt(categories: CategorySet) -> str:
