@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from enum import StrEnum
 
-__all__ = ["ExportFormat", "SortKey"]
+__all__ = ["ExportFormat", "Judge", "SortKey"]
 
 
 class SortKey(StrEnum):
@@ -34,3 +34,18 @@ class ExportFormat(StrEnum):
 
     AV2 = "av2"
     """The Argoverse 2 scenario-mining submission pickle."""
+
+
+class Judge(StrEnum):
+    """Who decides a braking event's category (see :mod:`scenariominer.explain.judge`).
+
+    Attributes:
+        RULES: the first rule that holds; no model.
+        LLM: the LLM among every category.
+        HYBRID: the rules where exactly one holds, the LLM among the rules' candidates otherwise;
+            the LLM always writes the description and the explanation.
+    """
+
+    RULES = "rules"
+    LLM = "llm"
+    HYBRID = "hybrid"

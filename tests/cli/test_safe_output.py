@@ -111,3 +111,9 @@ def test_quiet_prints_nothing_but_errors(tmp_path: Path) -> None:
     assert "logs" in loud.output and quiet.output == "" and "logs" in again.output
     failing = runner.invoke(app, ["--quiet", "info", "--store", str(tmp_path / "none")])
     assert failing.exit_code == 2 and "error" in failing.output
+
+
+def test_an_unknown_option_is_a_usage_error_not_an_internal_one() -> None:
+    result = runner.invoke(app, ["analyze", "--no-such-option"])
+    assert result.exit_code == 2
+    assert "No such option" in result.output and "internal error" not in result.output

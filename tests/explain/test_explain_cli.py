@@ -54,7 +54,7 @@ def analysed(workspace: Path) -> Path:
         [answer("right_ped", "A pedestrian crosses while the ego turns right.", "why")] * 50
     )
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(braking_api, "make_chat_client", lambda cfg: ChatClient(backend))
+        mp.setattr(braking_api, "make_chat_client", lambda cfg, **_: ChatClient(backend))
         done = runner.invoke(app, _args(workspace, "analyze", "--json"))
     assert done.exit_code == 0, done.output
     report = json.loads(done.output)

@@ -210,3 +210,33 @@ def test_bad_input_is_recorded_per_log(store: ScenarioStore, monkeypatch: pytest
     assert runs["parked-ego"]["status"] == "no_ego_motion" and runs["parked-ego"]["complete"]
     # The other synthetic logs and the flash log are analysed as usual.
     assert sum(r.status is LogStatus.ANALYZED for r in report.logs) == len(CATEGORIES)
+
+
+def test_an_interrupted_run_keeps_the_rule_results_and_a_rerun_continues(
+    store: ScenarioStore, tmp_path: Path
+) -> None:
+    calls = {"n": 0}
+
+    def interrupted(request: ChatRequest) -> str:
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt  # the user presses Ctrl-C during the third LLM call
+        return _reply(request)
+
+    cache = ResponseCache.in_dir(tmp_path / "cache")
+    client, _ = _client(reply=interrupted, cache=cache)
+    with pytest.raises(KeyboardInterrupt):
+        analyze_store(store, Config(), client, HashingEmbedder(32))
+    events = store.read_table(EVENTS_TABLE).to_pylist()
+    runs = store.read_table(RUNS_TABLE).to_pylist()
+    assert {r["log_id"] for r in runs} == set(store.log_ids())  # every log has its rule results
+    assert all(e["category"] == e["baseline_category"] for e in events if e["llm_status"] == "pending")
+    waiting = sum(e["llm_status"] == "pending" for e in events)
+    assert waiting >= 1 and calls["n"] == 3  # the interrupted log still waits for the LLM
+
+    again, backend = _client(cache=cache)
+    second = analyze_store(store, Config(), again, HashingEmbedder(32))
+    assert second.n_pending == 0 and second.n_failed == 0
+    assert second.n_unchanged == sum(r["complete"] for r in runs)  # finished logs are not redone
+    assert "pending" not in store.read_table(EVENTS_TABLE).column("llm_status").to_pylist()
+    assert len(backend.requests) <= waiting  # answers given before the interruption are not asked again

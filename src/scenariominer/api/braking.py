@@ -18,6 +18,7 @@ from scenariominer.explain.pipeline import AnalyzeReport, analyze_store
 from scenariominer.explain.search import SearchHit, SearchQuery, search_events
 from scenariominer.explain.show import show_event
 from scenariominer.llm.factory import make_chat_client, make_embedder
+from scenariominer.llm.usage import UsageCounter
 from scenariominer.progress import Progress
 from scenariominer.store import ScenarioStore
 
@@ -34,16 +35,23 @@ class AnalyzeRequest:
             loaded) and leaves the events pending for a later run.
         force: re-analyse logs whose stored results are current.
         categories_file: TOML file of scenario categories (overrides ``explain.categories_file``).
+        judge: who decides the categories (``hybrid``, ``llm``, ``rules``; overrides
+            ``explain.judge``). ``rules`` loads no model: every event is complete at once.
     """
 
     log_ids: Sequence[str] | None = None
     limit: int | None = None
     force: bool = False
     categories_file: Path | None = None
+    judge: str | None = None
 
 
 def analyze(
-    store: ScenarioStore, request: AnalyzeRequest, config: Config, progress: Progress | None = None
+    store: ScenarioStore,
+    request: AnalyzeRequest,
+    config: Config,
+    progress: Progress | None = None,
+    usage: UsageCounter | None = None,
 ) -> AnalyzeReport:
     """Find braking events, describe, measure and classify them with the LLM, and embed them.
 
@@ -56,9 +64,12 @@ def analyze(
     if request.categories_file is not None:
         explain = dataclasses.replace(cfg.explain, categories_file=str(request.categories_file))
         cfg = dataclasses.replace(cfg, explain=explain)
+    if request.judge is not None:
+        cfg = dataclasses.replace(cfg, explain=dataclasses.replace(cfg.explain, judge=request.judge))
     categories = load_categories(cfg.explain.categories_file)
-    embedder = make_embedder(cfg)
-    client = None if request.limit == 0 else make_chat_client(cfg)
+    embedder = make_embedder(cfg, usage=usage)
+    no_model = request.limit == 0 or cfg.explain.judge == "rules"
+    client = None if no_model else make_chat_client(cfg, usage=usage)
     try:
         return analyze_store(
             store,

@@ -20,6 +20,7 @@ from scenariominer.api.corpus import ingest
 from scenariominer.config import Config
 from scenariominer.data.log import Log, LogFormatError
 from scenariominer.errors import MiningError
+from scenariominer.llm.usage import UsageCounter
 from scenariominer.mine.export import MATCHES_TABLE, RUNS_TABLE, LogMatches, matches_table, runs_table
 from scenariominer.mine.query import QueryReport, make_synthesizer, mine_logs
 from scenariominer.mine.synthesis import normalize_description
@@ -81,8 +82,10 @@ class MineResult:
         return bool(r.failures) and not r.matches
 
 
-def mine(request: MineRequest, config: Config) -> MineResult:
+def mine(request: MineRequest, config: Config, usage: UsageCounter | None = None) -> MineResult:
     """Run one mining query end to end (see the module docstring).
+
+    ``usage`` counts the model calls and tokens (for the command's usage table).
 
     Raises:
         MiningError: no logs to mine; a bank, camera-frame or export problem.
@@ -106,7 +109,7 @@ def mine(request: MineRequest, config: Config) -> MineResult:
         mined,
         config=config.mining,
         program=request.program,
-        synthesizer=lambda: make_synthesizer(config),
+        synthesizer=lambda: make_synthesizer(config, usage=usage),
         examples=None,
         use_bank=request.use_bank,
         cache=cache,

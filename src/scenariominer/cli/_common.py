@@ -104,6 +104,26 @@ def _report(exc: BaseException) -> int:
     return 1
 
 
+def _is_usage_exception(exc: Exception) -> bool:
+    """Whether ``exc`` is click's own (a usage error, an exit): click prints those itself.
+
+    Typer 0.29 carries its own copy of click (``typer._click``); both are recognised.
+    """
+    import click
+
+    modules: list[Any] = [click.exceptions]
+    try:
+        from typer._click import exceptions as typer_click  # type: ignore[import-not-found,unused-ignore]
+
+        modules.append(typer_click)
+    except ImportError:  # an older typer uses click itself
+        pass
+    kinds = tuple(
+        getattr(m, name) for m in modules for name in ("ClickException", "Exit") if hasattr(m, name)
+    )
+    return isinstance(exc, kinds)
+
+
 class SafeGroup(TyperGroup):
     """The root command group: turns exceptions escaping a command into one line and an exit status."""
 
@@ -114,9 +134,7 @@ class SafeGroup(TyperGroup):
         except (typer.Exit, typer.Abort, SystemExit, KeyboardInterrupt):
             raise
         except Exception as exc:
-            import click
-
-            if isinstance(exc, click.exceptions.ClickException | click.exceptions.Exit):
+            if _is_usage_exception(exc):
                 raise
             if settings.debug:
                 raise

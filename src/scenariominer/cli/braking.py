@@ -10,7 +10,7 @@ import typer
 
 from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, err_console, load_cfg
 from scenariominer.cli.text import safe
-from scenariominer.schema import SortKey
+from scenariominer.schema import Judge, SortKey
 
 if TYPE_CHECKING:
     from scenariominer.explain.pipeline import AnalyzeReport
@@ -72,21 +72,45 @@ def analyze(
     log: Annotated[
         list[str] | None, typer.Option("--log", help="Analyse only this log (repeatable).")
     ] = None,
+    judge: Annotated[
+        Judge | None,
+        typer.Option(
+            "--judge",
+            help="Who decides the category: hybrid (rules where one rule holds, the LLM otherwise; "
+            "the LLM writes the explanation), llm, or rules (no model). Default: explain.judge.",
+        ),
+    ] = None,
+    llm: Annotated[
+        bool,
+        typer.Option(
+            "--llm/--no-llm", help="--no-llm: rules only, at once, no model loaded (= --judge rules)."
+        ),
+    ] = True,
     json_out: JsonOpt = False,
 ) -> None:
-    """Find braking events, describe, measure and classify them with the LLM, and embed them."""
+    """Find braking events, describe, measure and classify them, and embed them.
+
+    Rule results are stored for every log first; the LLM's part follows log by log, so an
+    interrupted run keeps what it finished and a re-run continues (answers already given are cached).
+    """
     from scenariominer import api
     from scenariominer.cli.progress import progress_bar
+    from scenariominer.llm.usage import UsageCounter, print_usage
 
     cfg = load_cfg(config)
     st = api.open_existing_store(store, cfg)
-    request = api.AnalyzeRequest(log_ids=log, limit=limit, force=force, categories_file=categories)
+    chosen = "rules" if not llm else (judge.value if judge is not None else None)
+    request = api.AnalyzeRequest(
+        log_ids=log, limit=limit, force=force, categories_file=categories, judge=chosen
+    )
+    usage = UsageCounter()
     with progress_bar(not json_out) as bar:
-        report = api.analyze(st, request, cfg, progress=bar)
+        report = api.analyze(st, request, cfg, progress=bar, usage=usage)
     if json_out:
         console().print_json(report.to_json())
     else:
         render_analyze_report(report)
+        print_usage(usage.report(), console())
     if report.n_failed and not (report.n_analyzed or report.n_unchanged):
         raise typer.Exit(1)
 

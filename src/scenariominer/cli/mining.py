@@ -162,6 +162,7 @@ def mine(
 
     from scenariominer import api
     from scenariominer.errors import MiningError
+    from scenariominer.llm.usage import UsageCounter, print_usage
     from scenariominer.mine.loop import GenerationStatus
 
     cfg = load_cfg(config)
@@ -185,7 +186,8 @@ def mine(
         align_to=align_to,
         force=force,
     )
-    result = api.mine(request, cfg)
+    usage = UsageCounter()
+    result = api.mine(request, cfg, usage)
     report = result.report
     if json_out:
         console().print_json(json.dumps(report.summary()))
@@ -193,6 +195,7 @@ def mine(
         render_query(report)
         if result.export_path is not None:
             console().print(f"wrote {safe(result.export_path)}", soft_wrap=True)
+        print_usage(usage.report(), console())
     if result.all_failed:
         err_console().print(
             f"[red]the program failed on every log ({len(report.failures)})[/red]", soft_wrap=True

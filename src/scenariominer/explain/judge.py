@@ -19,7 +19,6 @@ from __future__ import annotations
 import dataclasses
 import re
 from collections.abc import Callable, Sequence
-from enum import StrEnum
 from typing import Any, Literal
 
 import pyarrow as pa
@@ -34,6 +33,7 @@ from scenariominer.explain.classify import (
 from scenariominer.explain.facts import EventFacts, rules_explanation
 from scenariominer.explain.prompts import judge_messages
 from scenariominer.llm.client import ChatClient
+from scenariominer.schema import Judge
 
 _SENTENCE_END = re.compile(r"[.;](?=\s|$)")  # not the point of "3.2"
 _CLAUSE_END = re.compile(r",(?=\s)")
@@ -52,14 +52,6 @@ __all__ = [
     "rejudge_events",
     "rules_only",
 ]
-
-
-class Judge(StrEnum):
-    """Who decides the category (see the module docstring)."""
-
-    RULES = "rules"
-    LLM = "llm"
-    HYBRID = "hybrid"
 
 
 def allowed_categories(judge: Judge, candidates: Sequence[str], categories: CategorySet) -> tuple[str, ...]:

@@ -22,7 +22,7 @@ import hashlib
 import json
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from datetime import UTC, datetime
 from enum import StrEnum
@@ -265,6 +265,7 @@ def analyze_log(
     *,
     llm_budget: int | None = None,
     fingerprint: str = "",
+    on_event: Callable[[Classification], None] | None = None,
 ) -> LogOutcome:
     """Tag one log, find its braking events and describe, measure and classify each.
 
@@ -276,6 +277,7 @@ def analyze_log(
         llm_budget: at most this many fresh (non-cached) LLM calls; ``None`` = unbounded. Once
             it is spent, the remaining events are ``pending``.
         fingerprint: stored on every record.
+        on_event: called after each event that was sent to the LLM (progress).
 
     Returns:
         The tags and records (embedding fields empty; :func:`analyze_store` fills them).
@@ -310,6 +312,8 @@ def analyze_log(
         )
         if _fresh_call(outcome):
             fresh_calls += 1
+        if on_event is not None and outcome.status is not ClassificationStatus.PENDING:
+            on_event(outcome)
         records.append(record)
         texts.append(text)
         outcomes.append(outcome)
@@ -480,22 +484,56 @@ def analyze_store(
     if missing:
         raise UnknownLogError(missing[0])
     runs = {} if force else _current_runs(store)
-    budget = limit
-    results: list[LogAnalysis] = []
-    with step(progress, "analyze", len(ids)):
-        for log_id in ids:
-            if runs.get(log_id) == (fingerprint, True):
-                results.append(LogAnalysis(log_id, LogStatus.UNCHANGED))
-                progress.advance(1, f"unchanged {log_id[:8]}")
-                continue
-            result = _analyze_and_store(
-                store, log_id, config, categories, chat_client, embedder, budget, fingerprint
-            )
-            if budget is not None:
-                budget = max(0, budget - result.n_llm_calls)
-            results.append(result)
+    todo = [i for i in ids if runs.get(i, ("", False))[:2] != (fingerprint, True)]
+    uses_llm = chat_client is not None and config.explain.judge != "rules"
+    results: dict[str, LogAnalysis] = {i: LogAnalysis(i, LogStatus.UNCHANGED) for i in ids if i not in todo}
+    fresh = [i for i in todo if runs.get(i, ("", False))[0] != fingerprint]
+    with step(progress, "rules" if uses_llm else "analyze", len(fresh) if uses_llm else len(todo)):
+        for log_id in fresh if uses_llm else todo:  # rule results of every log first, stored at once
+            result = _analyze_and_store(store, log_id, config, categories, None, embedder, 0, fingerprint)
+            results[log_id] = result
             progress.advance(1, f"{result.status.value} {log_id[:8]} ({result.n_events} events)")
-    return AnalyzeReport(tuple(results), fingerprint, time.perf_counter() - t_run)
+    if uses_llm:
+        waiting = _pending_counts(store, todo, fingerprint)
+        budget = limit
+        with step(progress, "LLM", sum(waiting.values())):
+            for log_id in (i for i in todo if waiting.get(i)):
+                if budget == 0:
+                    break
+                result = _analyze_and_store(
+                    store,
+                    log_id,
+                    config,
+                    categories,
+                    chat_client,
+                    embedder,
+                    budget,
+                    fingerprint,
+                    on_event=lambda c: progress.advance(1, _event_message(c)),
+                )
+                if budget is not None:
+                    budget = max(0, budget - result.n_llm_calls)
+                results[log_id] = result
+    return AnalyzeReport(tuple(results[i] for i in ids), fingerprint, time.perf_counter() - t_run)
+
+
+def _event_message(outcome: Classification) -> str:
+    """Progress text after one LLM answer."""
+    how = "cached" if outcome.cached else f"{outcome.latency_s:.1f} s"
+    return f"{outcome.category} ({how})"
+
+
+def _pending_counts(store: ScenarioStore, log_ids: Sequence[str], fingerprint: str) -> dict[str, int]:
+    """``log_id → events still waiting for the LLM`` of the given logs' current runs rows."""
+    try:
+        table = store.read_table(RUNS_TABLE, list(log_ids))
+    except UnknownTableError:
+        return {}
+    out: dict[str, int] = {}
+    for row in table.select(["log_id", "fingerprint", "status", "n_pending"]).to_pylist():
+        if row["fingerprint"] == fingerprint and row["status"] == LogStatus.ANALYZED.value:
+            out[str(row["log_id"])] = int(row["n_pending"] or 0)
+    return out
 
 
 def _analyze_and_store(
@@ -507,12 +545,19 @@ def _analyze_and_store(
     embedder: Embedder,
     budget: int | None,
     fingerprint: str,
+    on_event: Callable[[Classification], None] | None = None,
 ) -> LogAnalysis:
     t0 = time.perf_counter()
     try:
         log = store.load_log(log_id)
         outcome = analyze_log(
-            log, config, categories, chat_client, llm_budget=budget, fingerprint=fingerprint
+            log,
+            config,
+            categories,
+            chat_client,
+            llm_budget=budget,
+            fingerprint=fingerprint,
+            on_event=on_event,
         )
         records = list(outcome.records)
         if records:

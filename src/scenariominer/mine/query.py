@@ -23,7 +23,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -59,6 +59,9 @@ from scenariominer.mine.sandbox import (
     run_trusted_program,
 )
 from scenariominer.mine.synthesis import ProgramSynthesizer, normalize_description
+
+if TYPE_CHECKING:
+    from scenariominer.llm.usage import UsageCounter
 
 __all__ = [
     "LogFailure",
@@ -322,8 +325,12 @@ def av2_submission(
     return out
 
 
-def make_synthesizer(config: Config | None = None, *, leave_one_out: bool = True) -> ProgramSynthesizer:
+def make_synthesizer(
+    config: Config | None = None, *, leave_one_out: bool = True, usage: UsageCounter | None = None
+) -> ProgramSynthesizer:
     """The configured program writer: chat client (``[llm]``), embedder (``[embedding]``), bank.
+
+    ``usage`` counts the calls and tokens of both models (for the command's usage table).
 
     Raises:
         ModelNotAvailableError: the model file or the packages carrying it are missing.
@@ -335,8 +342,8 @@ def make_synthesizer(config: Config | None = None, *, leave_one_out: bool = True
 
     cfg = config or load_config()
     gen = cfg.mining.generation
-    selector = ExampleSelector(load_examples(gen.examples_files), make_embedder(cfg))
-    return ProgramSynthesizer(make_chat_client(cfg), selector, gen, leave_one_out=leave_one_out)
+    selector = ExampleSelector(load_examples(gen.examples_files), make_embedder(cfg, usage=usage))
+    return ProgramSynthesizer(make_chat_client(cfg, usage=usage), selector, gen, leave_one_out=leave_one_out)
 
 
 def clip_candidates(
