@@ -26,7 +26,7 @@ def test_counter_aggregates_per_backend_and_model_and_renders():
     text = console.export_text()
     assert "Model usage" in text
     assert "qwen" in text and "hashing-8" in text
-    assert "total" in text and "4.50" in text
+    assert "total" in text and "4.5" in text
 
 
 def test_empty_report_prints_nothing():

@@ -18,6 +18,7 @@ mine                :func:`mine`                                     :mod:`.mini
 eval braking        :func:`evaluate_braking`                         :mod:`.evaluation`
 eval mining         :func:`evaluate_mining`                          :mod:`.evaluation`
 llm check           :func:`llm_check`                                :mod:`.models`
+llm serve           :func:`serve` (:func:`serve_settings`)          :mod:`.models`
 ==================  ===============================================  ============================
 
 Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
@@ -56,6 +57,8 @@ _EXPORTS: dict[str, str] = {
     "evaluate_mining": "evaluation",
     "LLMCheckResult": "models",
     "llm_check": "models",
+    "serve": "models",
+    "serve_settings": "models",
 }
 
 __all__ = sorted(_EXPORTS)

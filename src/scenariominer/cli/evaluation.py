@@ -47,22 +47,24 @@ def render_braking(ev: BrakingEvaluation) -> None:
             style="bold" if overall else None,
         )
     out.print(t4)
-    judges = " / ".join(ev.judges)
-    t5 = Table(title=f"Known categories, {safe(judges)} (Table V)", title_justify="left")
-    for col in ("category", "precision", "recall", "F1", "TP", "FP", "FN"):
-        t5.add_column(col, justify="left" if col == "category" else "right", no_wrap=True)
+    t5 = Table(title="Known categories by judge (Table V)", title_justify="left")
+    for col in ("category", "judge", "precision", "recall", "F1", "TP", "FP", "FN"):
+        t5.add_column(col, justify="left" if col in ("category", "judge") else "right", no_wrap=True)
     for c in ev.classification:
-        cols = [c.scores[j] for j in ev.judges]
-        t5.add_row(
-            safe(c.category),
-            " / ".join(_num(p.precision) for p in cols),
-            " / ".join(_num(p.recall) for p in cols),
-            " / ".join(_num(p.f1) for p in cols),
-            " / ".join(str(p.tp) for p in cols),
-            " / ".join(str(p.fp) for p in cols),
-            " / ".join(str(p.fn) for p in cols),
-            style="bold" if c.category == "overall" else None,
-        )
+        for i, judge in enumerate(ev.judges):
+            p = c.scores[judge]
+            t5.add_row(
+                safe(c.category) if i == 0 else "",
+                safe(judge),
+                _num(p.precision),
+                _num(p.recall),
+                _num(p.f1),
+                str(p.tp),
+                str(p.fp),
+                str(p.fn),
+                style="bold" if c.category == "overall" else None,
+                end_section=i == len(ev.judges) - 1,
+            )
     out.print(t5)
     if ev.pedestrians_as_obj_crossing:
         peds = ", ".join(f"{safe(j)} {n}/{of}" for j, (n, of) in ev.pedestrians_as_obj_crossing.items())

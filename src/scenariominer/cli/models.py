@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from scenariominer.cli._common import ConfigOpt, console, load_cfg
+from scenariominer.cli._common import ConfigOpt, console, err_console, load_cfg
 from scenariominer.cli.text import safe
 
 if TYPE_CHECKING:
@@ -89,3 +89,26 @@ def check(
             render_embedding_check(result.embeddings)
     finally:
         print_usage(usage.report(), console())
+
+
+@app.command()
+def serve(
+    config: ConfigOpt = None,
+    host: Annotated[
+        str, typer.Option("--host", help="Interface to listen on (no authentication!).")
+    ] = "127.0.0.1",
+    port: Annotated[int, typer.Option("--port", min=1, max=65535, help="TCP port.")] = 8765,
+) -> None:
+    """Serve the configured GGUF model (the bundled one by default) over an OpenAI-compatible API.
+
+    Point any command at it with ``[llm] backend = "openai"``, ``base_url = "http://HOST:PORT/v1"``,
+    ``model = "scenariominer"`` and ``structured_mode = "json_object_schema"``. Stop with Ctrl-C.
+    """
+    from scenariominer import api
+
+    settings = api.serve_settings(load_cfg(config), host=host, port=port)
+    err_console().print(
+        f"serving {safe(settings.model_path.name)} as {safe(settings.alias)!r} at {safe(settings.base_url)}",
+        soft_wrap=True,
+    )
+    raise typer.Exit(api.serve(settings))

@@ -59,6 +59,9 @@ class StructuredMode(StrEnum):
     """``response_format={"type": "json_schema", ...}``: the server constrains decoding."""
     JSON_OBJECT = "json_object"
     """``response_format={"type": "json_object"}``: any JSON object; the schema is in the prompt only."""
+    JSON_OBJECT_SCHEMA = "json_object_schema"
+    """``response_format={"type": "json_object", "schema": ...}``: llama.cpp's servers (including
+    ``scenariominer llm serve``) constrain decoding with the schema this way."""
     PROMPT = "prompt"
     """No ``response_format``; the schema is in the prompt only (servers that reject the field)."""
 

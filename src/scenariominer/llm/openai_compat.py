@@ -220,6 +220,8 @@ class OpenAICompatBackend:
                 }
             elif self.structured_mode is StructuredMode.JSON_OBJECT:
                 body["response_format"] = {"type": "json_object"}
+            elif self.structured_mode is StructuredMode.JSON_OBJECT_SCHEMA:
+                body["response_format"] = {"type": "json_object", "schema": dict(request.json_schema)}
         return body
 
     def complete(self, request: ChatRequest) -> Completion:

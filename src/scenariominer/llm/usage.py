@@ -95,38 +95,34 @@ class UsageReport:
         """Render as a Rich table with one line per row and a total line."""
         from rich.table import Table
 
-        table = Table(title="Model usage", title_justify="left")
-        for name in ("kind", "backend", "model"):
-            table.add_column(name)
-        for name in ("requests", "calls", "cache hits", "failures", "prompt tok", "gen tok", "time s"):
-            table.add_column(name, justify="right")
+        table = Table(title="Model usage", title_justify="left", caption_justify="left")
+        table.add_column("model", overflow="fold", ratio=1)  # long identities wrap, numbers never
+        for name in ("req", "calls", "hits", "fails", "prompt tok", "gen tok", "s"):
+            table.add_column(name, justify="right", no_wrap=True)
         for r in self.rows:
             table.add_row(
-                r.kind.value,
-                r.backend,
-                r.model,
+                f"{r.kind.value}: {r.model.split('@')[0]} ({r.backend})",  # the file hash is in the cache key
                 str(r.requests),
                 str(r.calls),
                 str(r.cache_hits),
                 str(r.failures),
                 str(r.prompt_tokens),
                 str(r.completion_tokens),
-                f"{r.latency_s:.2f}",
+                f"{r.latency_s:.1f}",
             )
         if len(self.rows) > 1:
             table.add_row(
                 "total",
-                "",
-                "",
                 str(sum(r.requests for r in self.rows)),
                 str(self.calls),
                 str(self.cache_hits),
                 str(sum(r.failures for r in self.rows)),
                 str(self.prompt_tokens),
                 str(self.completion_tokens),
-                f"{self.latency_s:.2f}",
+                f"{self.latency_s:.1f}",
                 style="bold",
             )
+        table.caption = "req: requests; calls: backend calls made; hits: answered from the cache"
         return table
 
 
