@@ -32,7 +32,8 @@ RUNTIME_ERROR = (
     "```python\n"
     "vehicles = get_objects_of_category(log_dir, category='VEHICLE')\n"
     "bicycles = get_objects_of_category(log_dir, category='BICYCLE')\n"
-    "result = has_objects_in_relative_direction(vehicles, bicycles, log_dir, direction='diagonal')\n"
+    "side = 'diagonal'\n"  # through a variable: only running it can tell
+    "result = has_objects_in_relative_direction(vehicles, bicycles, log_dir, direction=side)\n"
     "output_scenario(result, description, log_dir, output_dir)\n"
     "```"
 )
@@ -67,7 +68,7 @@ def test_errors_are_fed_back_until_a_valid_program_in_four_attempts(street: LogC
     assert report.attempts_used == 4
     kinds = [a.error.kind if a.error else None for a in report.attempts]
     assert kinds == [ErrorKind.SYNTAX, ErrorKind.FORBIDDEN, ErrorKind.RUNTIME, None]
-    assert report.program is not None and "direction='right'" in report.program
+    assert report.program is not None and "side = 'right'" in report.program
     assert report.validation_log_ids == (street.log_id,)
 
     requests = backend.requests

@@ -164,7 +164,10 @@ STOPPED = {
     "busy_comprehension": ("x = [a for a in range(10**5) for b in range(10**5) if a < 0]", ErrorKind.TIMEOUT),
     "long_range": ("x = list(range(10**9))", ErrorKind.RUNTIME),
     "division_by_zero": ("x = 1 / 0", ErrorKind.RUNTIME),
-    "wrong_arguments": ("x = turning(log_dir)", ErrorKind.RUNTIME),
+    "wrong_arguments": (
+        "k = 'fast'\nx = has_velocity(log_dir=log_dir, track_candidates=[], min_velocity=k)",
+        ErrorKind.RUNTIME,
+    ),
     "map_predicate_without_map": (
         "v = get_objects_of_category(log_dir, 'VEHICLE')\noutput_scenario(on_road(v, log_dir), description)",
         ErrorKind.RUNTIME,
@@ -193,9 +196,8 @@ def test_hostile_program_is_stopped_with_the_right_kind(ctx: LogContext, name: s
 
 
 def test_runtime_errors_point_at_the_failing_line(ctx: LogContext) -> None:
-    source = (
-        "v = get_objects_of_category(log_dir, 'VEHICLE')\n\nx = has_velocity(v, log_dir, min_velocity='x')\n"
-    )
+    source = "v = get_objects_of_category(log_dir, 'VEHICLE')\nk = 'x'\n"
+    source += "x = has_velocity(v, log_dir, min_velocity=k)\n"  # a variable: only running it can tell
     result = run_program(source, ctx)
     assert result.error is not None and result.error.line == 3
     assert result.error.message.startswith("line 3: TypeError: has_velocity(): min_velocity must be a number")

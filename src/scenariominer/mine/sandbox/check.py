@@ -9,6 +9,7 @@ from enum import StrEnum
 
 from scenariominer.config.mining import SandboxConfig
 from scenariominer.mine.dsl import DSL_FUNCTIONS
+from scenariominer.mine.sandbox.arguments import check_call_arguments
 from scenariominer.mine.scenario import Scenario
 
 PROGRAM_FILENAME = "<program>"
@@ -356,6 +357,9 @@ def check_program(
             problem = _check_call(node, known, assigned)
             if problem is not None:
                 return problem
+            fault = check_call_arguments(node, DSL_FUNCTIONS)
+            if fault is not None:
+                return _forbidden(*fault)
         elif isinstance(node, ast.Constant) and isinstance(node.value, bytes):
             return _forbidden(node, "bytes literals are not allowed")
     return None
