@@ -357,6 +357,23 @@ def test_missing_or_unreadable_files_are_named(tmp_path: Path) -> None:
         read_av2_log(folder)
 
 
+def test_a_broken_map_leaves_the_log_without_its_map_and_says_why(tmp_path: Path) -> None:
+    folder = _small_log(tmp_path / "L")
+    (folder / "map").mkdir()
+    (folder / "map" / "log_map_archive_L____X_city_0.json").write_text('{"lane_segments": {}}')
+    log = read_av2_log(folder)
+    assert log.map_dir is None
+    assert log.notes == (
+        "loaded without its vector map: log_map_archive_L____X_city_0.json: vector map lacks the "
+        "'pedestrian_crossings' layer (an object keyed by id)",
+    )
+
+
+def test_real_log_keeps_its_map(real_log: Log, av2_log_dir: Path) -> None:
+    assert real_log.map_dir == av2_log_dir / "map"
+    assert not any("vector map" in n for n in real_log.notes)
+
+
 # ---------------------------------------------------------------------- writer
 
 

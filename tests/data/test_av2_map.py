@@ -17,6 +17,7 @@ from scenariominer.data.adapters.av2.map import (
     PedestrianCrossing,
     find_map_file,
     read_av2_map,
+    validate_av2_map,
     write_av2_map,
 )
 from scenariominer.data.log import LogFormatError
@@ -205,6 +206,13 @@ def test_malformed_maps_raise_format_errors_naming_the_record(
     with pytest.raises(LogFormatError, match=message) as err:
         read_av2_map(path)
     assert err.value.source == str(path)
+    with pytest.raises(LogFormatError, match=message):  # the ingest-time check finds the same problem
+        validate_av2_map(path)
+
+
+def test_validate_accepts_what_read_reads(av2_log_dir: Path, tmp_path: Path) -> None:
+    assert validate_av2_map(av2_log_dir) == find_map_file(av2_log_dir)
+    assert validate_av2_map(write_av2_map(_cross_map(), tmp_path / "log_map_archive_x.json")).is_file()
 
 
 def test_invalid_json_and_missing_map(tmp_path: Path) -> None:

@@ -383,6 +383,19 @@ def test_bad_frame_rate_is_an_error(tmp_path: Path) -> None:
         _logs(files)
 
 
+def test_frame_rate_is_checked_only_against_moving_vehicles() -> None:
+    from scenariominer.data.adapters.highd.consistency import implied_frame_rate
+
+    frames = np.tile(np.arange(1, 101), 2)
+    vid = np.repeat([1, 2], 100)
+    crawling = np.full(200, 2.0)  # congestion: 2 m/s says nothing at 1 cm resolution
+    x = np.concatenate([np.round(np.arange(100) * 2.0 / 25, 2)] * 2)
+    assert implied_frame_rate(vid, frames, x, crawling) is None
+    fast = np.full(200, 30.0)
+    x = np.concatenate([np.round(np.arange(100) * 30.0 / 25, 2)] * 2)
+    assert implied_frame_rate(vid, frames, x, fast) == pytest.approx(25.0, rel=0.01)
+
+
 # --------------------------------------------------------------------------------------- scale
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
@@ -127,7 +128,7 @@ def ingest_sources(
         # path is reported as a failed source and the rest of the batch goes on.
         try:
             found = [s for s in discover_sources([path], readers) if s.key not in seen]
-        except (LogFormatError, OSError) as exc:
+        except (LogFormatError, OSError, ValueError) as exc:
             results.append(SourceResult(str(path), "-", "failed", error=str(exc)))
             continue
         seen.update(s.key for s in found)
@@ -142,6 +143,19 @@ def ingest_sources(
     return results
 
 
+def _check_utf8_paths(source: LogSource) -> None:
+    """Refuse a source whose path is not valid UTF-8: Arrow cannot open it and a store cannot name it."""
+    for path in (source.path, *source.files):
+        try:
+            str(path).encode("utf-8")
+        except UnicodeEncodeError:
+            raw = os.fsencode(path)
+            raise LogFormatError(
+                ascii(raw)[2:-1],
+                "the path is not valid UTF-8 (undecodable bytes shown as \\xNN); rename it to ingest it",
+            ) from None
+
+
 def _ingest_one(
     source: LogSource,
     sink: LogSink,
@@ -152,6 +166,7 @@ def _ingest_one(
 ) -> SourceResult:
     t0 = time.perf_counter()
     try:
+        _check_utf8_paths(source)
         content_hash = f"{source.content_hash()}:{fingerprint}"
         if not force and not sink.needs_ingest(source.key, content_hash):
             return SourceResult(source.key, source.format, "skipped", tuple(sink.logs_of_source(source.key)))
@@ -164,6 +179,10 @@ def _ingest_one(
         return SourceResult(
             source.key, source.format, "failed", error=str(exc), seconds=time.perf_counter() - t0
         )
+    except Exception as exc:  # a bug met by one odd input must not abort the batch either
+        error = f"{source.path}: unexpected {type(exc).__name__} while reading ({exc}); please report it"
+        seconds = time.perf_counter() - t0
+        return SourceResult(source.key, source.format, "failed", error=error, seconds=seconds)
     return SourceResult(
         source.key,
         source.format,

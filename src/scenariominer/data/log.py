@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from scenariominer import errors as _errors
 from scenariominer.data.categories import EGO_CATEGORY, UnknownCategoryError, canonical_category
+from scenariominer.data.clocks import align_track_clocks
 from scenariominer.geometry import wrap_angle
 
 FloatArray = NDArray[np.float64]
@@ -58,6 +59,8 @@ REQUIRED_FIELDS: tuple[str, ...] = ("x_m", "y_m", "yaw_rad", "length_m", "width_
 MAX_COORDINATE_M = 1e7
 #: A zero or negative box length or width (no extent recorded, or a sign error) becomes this (metres).
 MIN_BOX_SIZE_M = 0.1
+#: Largest ``tracks x timestamps`` grid a log may have (each state field is one float64 per cell).
+MAX_LOG_CELLS = 20_000_000
 
 
 class LogFormatError(_errors.DataError):
@@ -276,6 +279,7 @@ def build_log(
     source_hash: str = "",
     category_aliases: Mapping[str, str] | None = None,
     min_track_frames: int = 2,
+    max_cells: int = MAX_LOG_CELLS,
 ) -> Log:
     """Build a :class:`Log` from long-format columns (one entry per observation).
 
@@ -290,6 +294,10 @@ def build_log(
       dropped (preprocessing interpolates the gap); a zero or negative length or width becomes
       :data:`MIN_BOX_SIZE_M`;
     * timestamps outside the int64 range (e.g. a wrapped unsigned value) are an error;
+    * tracks stamped by their own clocks (timestamps a few µs apart) are snapped onto one clock, and
+      a log whose clocks are too far apart to snap, or whose grid would exceed ``max_cells``, is an
+      error (see :mod:`scenariominer.data.clocks`);
+    * a NUL character in a track id (cut off by Arrow when stored) becomes U+FFFD;
     * tracks with fewer than ``min_track_frames`` observations are dropped (a one-frame track
       has no motion; the ego is never dropped, a one-frame ego is an error);
     * unknown categories are an error unless ``category_aliases`` maps them.
@@ -311,6 +319,7 @@ def build_log(
         source_hash: content hash of the source files.
         category_aliases: extra lower-case alias → Argoverse 2 name mapping.
         min_track_frames: tracks with fewer observations are dropped (with a note).
+        max_cells: largest ``tracks x timestamps`` grid accepted (:data:`MAX_LOG_CELLS`).
     """
     notes: list[str] = []
     tid = np.asarray(track_id).astype(str)
@@ -318,6 +327,7 @@ def build_log(
     m = tid.shape[0]
     if m == 0:
         raise LogFormatError(source, "the log has no rows")
+    tid = _replace_nul(tid, source, notes)
     missing = [f for f in REQUIRED_FIELDS if f not in fields]
     if missing:
         raise LogFormatError(source, f"missing required column(s) {missing}")
@@ -449,6 +459,14 @@ def build_log(
         first = np.concatenate([[True], tid[1:] != tid[:-1]])
         track_of_row = np.cumsum(first) - 1
 
+    # Tracks on their own clocks (µs offsets, per-row float rounding): one clock, or refused.
+    clocks = align_track_clocks(ts_i, first, tid == ego_track_id)
+    if clocks.problem:
+        raise LogFormatError(source, clocks.problem)
+    if clocks.note:
+        notes.append(clocks.note)
+        ts_i = clocks.timestamps_ns
+
     # Put the ego first.
     ego_pos = int(np.flatnonzero(track_names == ego_track_id)[0])
     perm = np.concatenate([[ego_pos], np.delete(np.arange(track_names.size), ego_pos)])
@@ -461,6 +479,12 @@ def build_log(
     timestamps = np.unique(ts_i)
     col_t = np.searchsorted(timestamps, ts_i)
     n, t = track_names.size, timestamps.size
+    if n * t > max_cells:
+        raise LogFormatError(
+            source,
+            f"the log would be {n} tracks x {t} timestamps = {n * t:,} cells, over the limit of "
+            f"{max_cells:,}; split it into shorter logs",
+        )
     valid = np.zeros((n, t), dtype=bool)
     valid[row_track, col_t] = True
 
@@ -510,6 +534,33 @@ def build_log(
         notes=tuple(notes),
         **state,  # type: ignore[arg-type]  # exactly the float state fields
     )
+
+
+def _has_nul(names: NDArray[np.str_]) -> NDArray[np.bool_]:
+    """Whether each string holds a NUL character (numpy pads with NULs, so look before the last char)."""
+    width = names.dtype.itemsize // 4
+    if names.size == 0 or width == 0:
+        return np.zeros(names.shape, dtype=bool)
+    codes = np.ascontiguousarray(names).view(np.uint32).reshape(names.size, width)
+    nonzero = codes != 0
+    length = width - np.argmax(nonzero[:, ::-1], axis=1)
+    return np.asarray(nonzero.any(axis=1) & (nonzero.sum(axis=1) < length), dtype=bool)
+
+
+def _replace_nul(tid: NDArray[np.str_], source: str | Path, notes: list[str]) -> NDArray[np.str_]:
+    """Track ids with a NUL character, which Arrow cuts off when storing, get U+FFFD instead."""
+    if not _has_nul(tid).any():
+        return tid
+    names = np.unique(tid)
+    bad = _has_nul(names)
+    fixed_names = np.asarray(["\ufffd".join(str(n).split("\x00")) for n in names], dtype=str)
+    if np.unique(fixed_names).size != names.size:
+        raise LogFormatError(source, "track ids differ only by NUL characters (cannot be stored apart)")
+    notes.append(
+        f"replaced NUL characters with U+FFFD in {int(bad.sum())} track id(s) "
+        f"(e.g. {str(names[bad][0])!r}; a NUL would cut the id short when stored)"
+    )
+    return np.asarray(fixed_names[np.searchsorted(names, tid)], dtype=str)
 
 
 def time_derivative(values: FloatArray, t_s: FloatArray) -> FloatArray:

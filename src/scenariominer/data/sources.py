@@ -44,13 +44,24 @@ class LogSource:
             try:
                 if not stat.S_ISREG(f.stat().st_mode):
                     # A FIFO or a device would block or never end: refused without opening it.
-                    raise LogFormatError(f, "not a regular file (a FIFO, device or socket); refused")
+                    raise LogFormatError(f, "not a regular file (a folder, FIFO, device or socket); refused")
                 with f.open("rb") as fh:
                     while chunk := fh.read(_HASH_CHUNK):
                         h.update(chunk)
             except OSError as exc:
                 raise LogFormatError(f, f"cannot read file ({exc.strerror or exc})") from None
         return h.hexdigest()
+
+
+def check_delimiter(path: Path, header: str) -> None:
+    """Refuse a CSV header line without commas that another delimiter splits, saying which."""
+    if "," in header:
+        return
+    for sep in (";", "\t", "|"):
+        if sep in header:
+            raise LogFormatError(
+                path, f"the header has no ',' but {sep!r}: expected a comma-separated file (save it with ',')"
+            )
 
 
 @runtime_checkable

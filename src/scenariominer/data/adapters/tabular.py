@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from scenariominer.config import Config
 from scenariominer.data.categories import EGO_CATEGORY, UnknownCategoryError, canonical_category
 from scenariominer.data.log import STATE_FIELDS, Log, LogFormatError, build_log
-from scenariominer.data.sources import LogSource
+from scenariominer.data.sources import LogSource, check_delimiter
 
 __all__ = [
     "OPTIONAL_COLUMNS",
@@ -100,6 +100,7 @@ def _column_names(path: Path) -> list[str]:
         raise LogFormatError(path, "not a text CSV file (cannot decode as UTF-8)") from None
     if not line.strip():
         raise LogFormatError(path, f"empty file: {_SCHEMA_HINT}")
+    check_delimiter(path, line)
     return [c.strip().strip('"') for c in line.strip().split(",")]
 
 

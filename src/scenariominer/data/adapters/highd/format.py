@@ -15,8 +15,14 @@ import pyarrow as pa
 import pyarrow.csv as pacsv
 from numpy.typing import NDArray
 
+from scenariominer.data.adapters.highd.consistency import (
+    META_SPAN_COLUMNS,
+    check_frame_rate,
+    meta_span_mismatch,
+)
 from scenariominer.data.categories import UnknownCategoryError, canonical_category
 from scenariominer.data.log import FloatArray, LogFormatError
+from scenariominer.data.sources import check_delimiter
 
 IntArray = NDArray[np.int64]
 
@@ -173,8 +179,9 @@ class HighDFiles:
         )
         for f in files.all:
             if not f.is_file():
+                what = "not a regular file" if f.exists() else "missing"
                 raise LogFormatError(
-                    f, f"highD recording {prefix} is incomplete: {f.name} is missing next to {path.name}"
+                    f, f"highD recording {prefix} is incomplete: {f.name} is {what} next to {path.name}"
                 )
         return files
 
@@ -194,6 +201,7 @@ class HighDRecordingMeta:
         upper_lane_markings_m: image-y of the upper carriageway's lane markings, metres, top to
             bottom; the canonical y of a marking is its negative.
         lower_lane_markings_m: image-y of the lower carriageway's lane markings, metres.
+        duration_s: length of the recording in seconds, ``None`` when absent.
     """
 
     recording_id: int
@@ -202,6 +210,7 @@ class HighDRecordingMeta:
     speed_limit_mps: float | None = None
     upper_lane_markings_m: tuple[float, ...] = ()
     lower_lane_markings_m: tuple[float, ...] = ()
+    duration_s: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -292,6 +301,7 @@ def _read_header(path: Path) -> list[str]:
         raise LogFormatError(path, "not a text CSV file (cannot decode as UTF-8)") from None
     if not line.strip():
         raise LogFormatError(path, "empty file: expected a CSV header line")
+    check_delimiter(path, line)
     return [c.strip().strip('"') for c in line.strip().split(",")]
 
 
@@ -377,6 +387,7 @@ def read_recording_meta(path: Path) -> HighDRecordingMeta:
     if not np.isfinite(frame_rate) or frame_rate <= 0:
         raise LogFormatError(path, f"frameRate must be a positive number, got {row['frameRate']!r}")
     speed_limit = number("speedLimit", -1.0)
+    duration = number("duration", float("nan"))
     return HighDRecordingMeta(
         recording_id=int(number("id", 0)),
         frame_rate_hz=frame_rate,
@@ -384,27 +395,44 @@ def read_recording_meta(path: Path) -> HighDRecordingMeta:
         speed_limit_mps=None if speed_limit < 0 else speed_limit,
         upper_lane_markings_m=_parse_markings(row.get("upperLaneMarkings", ""), path, "upperLaneMarkings"),
         lower_lane_markings_m=_parse_markings(row.get("lowerLaneMarkings", ""), path, "lowerLaneMarkings"),
+        duration_s=duration if np.isfinite(duration) else None,
     )
+
+
+def _vehicles(vid: IntArray) -> tuple[IntArray, IntArray, IntArray, IntArray]:
+    """Per-vehicle structure of rows sorted by id: first row, ids, row counts, vehicle of each row."""
+    first = np.concatenate([[True], vid[1:] != vid[:-1]])
+    track_start = np.flatnonzero(first).astype(np.int64)
+    track_count = np.diff(np.append(track_start, vid.size)).astype(np.int64)
+    return track_start, vid[track_start], track_count, (np.cumsum(first) - 1).astype(np.int64)
 
 
 def read_highd_recording(files: HighDFiles) -> HighDRecording:
     """Read and validate one highD recording, converted to the canonical frame.
 
     Repairs (each adds a note): rows not sorted by (id, frame) are sorted; exact duplicate
-    (id, frame) rows are collapsed.
+    (id, frame) rows are collapsed; tracksMeta vehicles without rows are ignored; vehicles whose rows
+    disagree with their tracksMeta ``initialFrame``/``finalFrame``/``numFrames`` are dropped.
 
     Raises:
         LogFormatError: naming the file, for missing columns, empty or non-numeric values,
             non-finite positions/sizes/velocities, conflicting duplicate (id, frame) rows, vehicle
-            ids absent from the tracks meta file, unknown classes or driving directions.
+            ids absent from the tracks meta file, a tracksMeta whose spans disagree for every
+            vehicle, a ``frameRate`` or ``duration`` the tracks contradict
+            (:mod:`~.consistency`), unknown classes or driving directions.
     """
     meta = read_recording_meta(files.recording_meta)
     tm = _read_columns(
         files.tracks_meta,
         _TRACKS_META_REQUIRED,
-        (),
+        META_SPAN_COLUMNS,
         TRACKS_META_COLUMNS,
-        {"id": pa.int64(), "class": pa.string(), "drivingDirection": pa.int64()},
+        {
+            "id": pa.int64(),
+            "class": pa.string(),
+            "drivingDirection": pa.int64(),
+            **{c: pa.int64() for c in META_SPAN_COLUMNS},
+        },
     )
     float_types = {c: pa.float64() for c in TRACKS_COLUMNS}
     float_types.update(frame=pa.int64(), id=pa.int64(), laneId=pa.int64())
@@ -453,13 +481,18 @@ def read_highd_recording(files: HighDFiles) -> HighDRecording:
         else:
             notes.append(f"{path.name}: rows were not sorted by (id, frame); sorted them")
 
-    # Vehicles and their meta data.
-    first = np.concatenate([[True], vid[1:] != vid[:-1]])
-    track_start = np.flatnonzero(first).astype(np.int64)
-    vehicle_ids = vid[track_start]
-    track_count = np.diff(np.append(track_start, vid.size)).astype(np.int64)
-    row_vehicle = (np.cumsum(first) - 1).astype(np.int64)
+    check_frame_rate(
+        meta.frame_rate_hz,
+        meta.duration_s,
+        vid,
+        frame,
+        numeric["x"],
+        numeric["xVelocity"],
+        files.recording_meta,
+    )
 
+    # Vehicles and their meta data.
+    track_start, vehicle_ids, track_count, row_vehicle = _vehicles(vid)
     meta_ids = tm["id"].astype(np.int64)
     meta_sorted = np.argsort(meta_ids, kind="stable")
     ms_ids = meta_ids[meta_sorted]
@@ -477,6 +510,32 @@ def read_highd_recording(files: HighDFiles) -> HighDRecording:
             f"e.g. {vehicle_ids[absent][:5].tolist()}",
         )
     meta_row = meta_sorted[pos]
+    unused = np.isin(ms_ids, vehicle_ids, invert=True)
+    if unused.any():
+        notes.append(
+            f"{files.tracks_meta.name}: ignored {int(unused.sum())} vehicle(s) with no rows in {path.name} "
+            f"(e.g. {ms_ids[unused][:5].tolist()})"
+        )
+    spans = {c: tm[c].astype(np.int64)[meta_row] for c in META_SPAN_COLUMNS if c in tm}
+    last_frame = frame[track_start + track_count - 1]
+    bad_span, example = meta_span_mismatch(frame[track_start], last_frame, track_count, spans)
+    if bad_span.all():
+        raise LogFormatError(
+            files.tracks_meta,
+            f"does not describe {path.name}: the frame span of every vehicle disagrees "
+            f"(e.g. vehicle {int(vehicle_ids[0])}: {example})",
+        )
+    if bad_span.any():
+        i = int(np.flatnonzero(bad_span)[0])
+        notes.append(
+            f"dropped {int(bad_span.sum())} vehicle(s) whose rows in {path.name} disagree with "
+            f"{files.tracks_meta.name} (e.g. vehicle {int(vehicle_ids[i])}: {example})"
+        )
+        keep = ~bad_span[row_vehicle]
+        vid, frame, lane = vid[keep], frame[keep], lane[keep]
+        numeric = {k: v[keep] for k, v in numeric.items()}
+        meta_row = meta_row[~bad_span]
+        track_start, vehicle_ids, track_count, row_vehicle = _vehicles(vid)
     classes = tm["class"].astype(str)[meta_row]
     uniq, inverse = np.unique(classes, return_inverse=True)
     mapped: list[str] = []

@@ -208,7 +208,14 @@ class HighDReader:
         windows = plan_windows(
             recording, ingest.highd_window_s, ingest.highd_ego_ids, ingest.highd_max_egos_per_recording
         )
-        source_hash = source.content_hash() if windows else ""
+        if not windows:
+            who = "chosen ego (ingest.highd_ego_ids)" if ingest.highd_ego_ids else "vehicle"
+            raise LogFormatError(
+                source.path,
+                f"no {who} of highD recording {files.recording_id:02d} is visible for a full "
+                f"{ingest.highd_window_s:g} s window (ingest.highd_window_s); nothing to ingest",
+            )
+        source_hash = source.content_hash()
         for window in windows:
             yield window_log(
                 recording,
