@@ -17,6 +17,7 @@ show                :func:`show`                                     :mod:`.brak
 mine                :func:`mine`                                     :mod:`.mining`
 eval braking        :func:`evaluate_braking`                         :mod:`.evaluation`
 eval mining         :func:`evaluate_mining`                          :mod:`.evaluation`
+eval nl2prog        :func:`evaluate_nl2prog`                         :mod:`.evaluation`
 llm check           :func:`llm_check`                                :mod:`.models`
 llm serve           :func:`serve` (:func:`serve_settings`)          :mod:`.models`
 ==================  ===============================================  ============================
@@ -53,8 +54,10 @@ _EXPORTS: dict[str, str] = {
     "store_report": "mining",
     "BrakingEvalRequest": "evaluation",
     "MiningEvalRequest": "evaluation",
+    "Nl2ProgEvalRequest": "evaluation",
     "evaluate_braking": "evaluation",
     "evaluate_mining": "evaluation",
+    "evaluate_nl2prog": "evaluation",
     "LLMCheckResult": "models",
     "llm_check": "models",
     "serve": "models",

@@ -1,4 +1,4 @@
-"""Use cases ``eval braking`` and ``eval mining``: score stored results against labels."""
+"""Use cases ``eval braking``, ``eval mining`` and ``eval nl2prog``: score results against labels."""
 
 from __future__ import annotations
 
@@ -6,10 +6,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from scenariominer.config import Config
-from scenariominer.errors import ConfigError
+from scenariominer.errors import ConfigError, EvaluationError
 from scenariominer.eval.braking import BrakingEvaluation, read_labels
 from scenariominer.eval.braking import evaluate_braking as _evaluate_braking
 from scenariominer.eval.mining import MiningEvaluation, evaluate_mining_files
+from scenariominer.eval.nl2prog import CandidateProvider, Nl2ProgEvaluation, generator_provider, load_eval_set
+from scenariominer.eval.nl2prog import evaluate_nl2prog as _evaluate_nl2prog
 from scenariominer.explain.categories import CategorySet, load_categories
 from scenariominer.explain.judge import Judge, rejudge_events
 from scenariominer.explain.search import load_events
@@ -18,7 +20,14 @@ from scenariominer.llm.usage import UsageCounter
 from scenariominer.progress import NullProgress, Progress, step
 from scenariominer.store import ScenarioStore
 
-__all__ = ["BrakingEvalRequest", "MiningEvalRequest", "evaluate_braking", "evaluate_mining"]
+__all__ = [
+    "BrakingEvalRequest",
+    "MiningEvalRequest",
+    "Nl2ProgEvalRequest",
+    "evaluate_braking",
+    "evaluate_mining",
+    "evaluate_nl2prog",
+]
 
 
 @dataclass(frozen=True)
@@ -132,3 +141,86 @@ def evaluate_mining(request: MiningEvalRequest) -> MiningEvaluation:
         max_range_m=request.max_range_m,
         out_dir=request.out_dir,
     )
+
+
+@dataclass(frozen=True)
+class Nl2ProgEvalRequest:
+    """Which descriptions of the description -> program evaluation set to score, on which logs.
+
+    Attributes:
+        split: ``holdout`` (default), ``dev`` or ``all``.
+        limit: score at most this many descriptions (in set order); ``None`` for all.
+        logs: log folders or files (any supported format); default the Argoverse 2 sample log
+            beside a source checkout (``../shared/data/av2``).
+        without_similar_bank: leave out of each description's few-shot examples the bank entries
+            most similar to it (``mining.generation.few_shot_k`` of them), to compare generation
+            with and without near-duplicate examples.
+    """
+
+    split: str = "holdout"
+    limit: int | None = None
+    logs: tuple[Path, ...] = ()
+    without_similar_bank: bool = False
+
+
+def evaluate_nl2prog(
+    request: Nl2ProgEvalRequest,
+    config: Config,
+    progress: Progress | None = None,
+    usage: UsageCounter | None = None,
+    provider: CandidateProvider | None = None,
+) -> Nl2ProgEvaluation:
+    """Score generated programs against the evaluation set's references (Jaccard of referred cells).
+
+    Args:
+        request: split, limit, logs, few-shot variant.
+        config: the configuration (model, embedder, mining thresholds, program cache).
+        progress: advanced once per description.
+        usage: counts model calls and tokens.
+        provider: description -> program; default the language-model loop
+            (:func:`~scenariominer.eval.nl2prog.generator_provider`: the shipped bank only,
+            leave-one-out, holdout never shown), validated on the first
+            ``mining.generation.validation_logs`` logs.
+
+    Raises:
+        EvaluationError: unknown split, bad limit, malformed set, or no logs to score on.
+        DataError: unreadable logs.
+        LLMError: the model is missing or failed.
+    """
+    from scenariominer.api.corpus import find_sample_av2
+    from scenariominer.api.mining import load_logs
+    from scenariominer.mine.context import LogContext
+    from scenariominer.mine.loop import ProgramCache
+
+    if request.limit is not None and request.limit < 0:
+        raise EvaluationError(f"limit must be >= 0, got {request.limit}")
+    entries = load_eval_set(request.split)[: request.limit]
+    paths = list(request.logs)
+    if not paths:
+        sample = find_sample_av2()
+        if sample is None:
+            raise EvaluationError(
+                "no logs given and no Argoverse 2 sample log beside the checkout; pass --logs PATH"
+            )
+        paths = [sample]
+    contexts = [LogContext(log, config.mining) for log in load_logs(paths, None, config)]
+    if not contexts:
+        raise EvaluationError(f"no logs found under {[str(p) for p in paths]}")
+    gen = config.mining.generation
+    if provider is None:
+        cache = ProgramCache.in_dir(config.llm.cache_dir) if gen.cache_programs else None
+        provider = generator_provider(
+            contexts[: gen.validation_logs],
+            config,
+            exclude_most_similar=gen.few_shot_k if request.without_similar_bank else 0,
+            cache=cache,
+            usage=usage,
+        )
+    progress = progress or NullProgress()
+    with step(progress, "descriptions", len(entries)):
+        return _evaluate_nl2prog(
+            entries,
+            contexts,
+            provider,
+            on_description=lambda s: progress.advance(1, s.description[:48]),
+        )

@@ -1,4 +1,4 @@
-"""The ``eval`` command group: ``eval braking`` (seed 000's Tables IV-VI) and ``eval mining``."""
+"""The ``eval`` command group: ``eval braking`` (seed 000's Tables IV-VI), ``eval mining`` and ``nl2prog``."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from scenariominer.cli.text import safe
 if TYPE_CHECKING:
     from scenariominer.eval.braking import BrakingEvaluation
     from scenariominer.eval.mining import MiningEvaluation
+    from scenariominer.eval.nl2prog import Nl2ProgEvaluation
 
 app = typer.Typer(name="eval", help="Evaluate pipelines against labelled data.", no_args_is_help=True)
 
@@ -190,3 +191,102 @@ def mining(
         console().print_json(json.dumps(ev.as_dict()))
     else:
         render_evaluation(ev)
+
+
+def _jaccard_cell(x: float | None) -> str:
+    return "-" if x is None else _num3(x)
+
+
+def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
+    """Print the per-description table, the summary, the per-family table and the failures."""
+    from rich.table import Table
+
+    out = console()
+    table = Table(title=title, title_justify="left")
+    for col in ("description", "split", "runnable", "mean Jaccard", "seconds"):
+        table.add_column(col, justify="left" if col in ("description", "split") else "right")
+    for s in ev.descriptions:
+        table.add_row(
+            safe(s.description),
+            safe(s.split),
+            "yes" if s.runnable else "[red]no[/red]",
+            _jaccard_cell(s.mean_jaccard),
+            f"{s.seconds:.1f}",
+        )
+    out.print(table)
+    n = len(ev.descriptions)
+    agree, empty = ev.empty_cells
+    out.print(
+        f"{n} description(s) on {len(ev.log_ids)} log(s): runnable {ev.n_runnable}/{n} "
+        f"({_num(100 * ev.runnable_share, 0)}%); mean Jaccard {_jaccard_cell(ev.mean_jaccard)} over "
+        f"{ev.n_scored_cells} (description, log) cell(s) where the reference finds something; "
+        f"where it finds nothing the candidate agrees in {agree}/{empty}; {ev.seconds:.1f} s",
+        soft_wrap=True,
+    )
+    if ev.n_reference_failures:
+        out.print(
+            f"[yellow]note:[/yellow] the reference failed in {ev.n_reference_failures} cell(s) "
+            "(e.g. a log without a map); those are not scored",
+            soft_wrap=True,
+        )
+    families = Table(title="per family", title_justify="left")
+    for col in ("family", "descriptions", "runnable", "scored cells", "mean Jaccard"):
+        families.add_column(col, justify="left" if col == "family" else "right")
+    for f in ev.per_family().values():
+        families.add_row(
+            safe(f.family),
+            str(f.n_descriptions),
+            str(f.n_runnable),
+            str(f.n_scored_cells),
+            _jaccard_cell(f.mean_jaccard),
+        )
+    out.print(families)
+    for s in ev.descriptions:
+        if not s.runnable:
+            out.print(f"not runnable: {safe(repr(s.description))}: {safe(s.error or '')}", soft_wrap=True)
+
+
+@app.command("nl2prog")
+def nl2prog(
+    split: Annotated[
+        str, typer.Option("--split", help="Descriptions to score: holdout, dev or all.")
+    ] = "holdout",
+    limit: Annotated[
+        int | None, typer.Option("--limit", min=0, help="Score at most N descriptions (in set order).")
+    ] = None,
+    logs: Annotated[
+        list[Path] | None,
+        typer.Option(
+            "--logs",
+            help="Log folder or file to score on; repeat for several (default: the Argoverse 2 "
+            "sample log beside the checkout).",
+        ),
+    ] = None,
+    no_bank_similar: Annotated[
+        bool,
+        typer.Option(
+            "--no-bank-similar",
+            help="Leave the bank entries most similar to each description out of its few-shot examples.",
+        ),
+    ] = False,
+    config: ConfigOpt = None,
+    json_out: JsonOpt = False,
+) -> None:
+    """Score generated programs against hand-written references (Jaccard of referred track-timestamps)."""
+    import json
+
+    from scenariominer import api
+    from scenariominer.llm.usage import UsageCounter, print_usage
+
+    cfg = load_cfg(config)
+    request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
+    usage = UsageCounter()
+    with progress_bar(not json_out) as bar:
+        ev = api.evaluate_nl2prog(request, cfg, bar, usage)
+    if json_out:
+        doc = {"split": split, "without_similar_bank": no_bank_similar, **ev.to_json_dict()}
+        console().print_json(json.dumps(doc))
+        return
+    variant = "without the most similar bank entries" if no_bank_similar else "with the whole bank"
+    render_nl2prog(ev, f"description -> program, {split} split, few-shot examples {variant}")
+    print_usage(usage.report(), console())

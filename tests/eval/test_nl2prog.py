@@ -1,0 +1,316 @@
+"""The description -> program evaluation set, its scorer and ``eval nl2prog`` (issue 18, item 5).
+
+No language model runs here: candidate programs come from scripted providers.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+from typer.testing import CliRunner
+
+from scenariominer.api import evaluation as evaluation_api
+from scenariominer.cli import app
+from scenariominer.config import Config
+from scenariominer.errors import LLMError
+from scenariominer.eval.nl2prog import (
+    FAMILIES,
+    BankOnlySelector,
+    EvalEntry,
+    EvalSetError,
+    description_key,
+    evaluate_nl2prog,
+    family_counts,
+    jaccard,
+    load_eval_set,
+    nearest_bank_provider,
+    parse_eval_set,
+    reference_provider,
+    similar_bank_entries,
+)
+from scenariominer.mine.context import LogContext
+from scenariominer.mine.programs import ExampleProgram, load_examples
+from scenariominer.mine.sandbox import ProgramResult, run_trusted_program
+from scenariominer.mine.synthesis import normalize_description
+from scenariominer.testing import HashingEmbedder
+
+runner = CliRunner()
+
+ENTRIES = load_eval_set()
+
+
+def _trusted(program: str, ctx: LogContext, description: str) -> ProgramResult:
+    return run_trusted_program(program, ctx, description=description)
+
+
+@pytest.fixture(scope="module")
+def shared_log(av2_log_dir: Path) -> LogContext:
+    from scenariominer.api.mining import load_logs
+
+    cfg = Config()
+    (log,) = load_logs([av2_log_dir], None, cfg)
+    return LogContext(log, cfg.mining)
+
+
+# ---------------------------------------------------------------------------------- the set
+
+
+def test_the_set_loads_with_enough_entries_in_both_splits() -> None:
+    dev, holdout = load_eval_set("dev"), load_eval_set("holdout")
+    assert len(ENTRIES) >= 60 and len(dev) + len(holdout) == len(ENTRIES)
+    assert 0.28 <= len(holdout) / len(ENTRIES) <= 0.4  # about a third
+    assert all(e.program.rstrip().splitlines()[-1].startswith("output_scenario(") for e in ENTRIES)
+    assert load_eval_set("all") == ENTRIES
+
+
+def test_every_family_is_covered_by_several_entries() -> None:
+    counts = family_counts(ENTRIES)
+    assert set(counts) == set(FAMILIES)
+    assert {f: n for f, n in counts.items() if n < 2} == {}
+    # the holdout alone still spans the main families
+    held = family_counts(load_eval_set("holdout"))
+    core = ("category", "category_group", "motion", "relation", "map", "composition", "direction")
+    assert all(held[f] >= 1 for f in (*core, "crossing", "turning", "pedestrian", "cyclist", "bus", "ego"))
+
+
+def test_the_category_groups_and_many_categories_are_asked_for() -> None:
+    used = {c for e in ENTRIES for c in re.findall(r"category='([A-Z_]+)'", e.program)}
+    assert {"VEHICLE", "VULNERABLE_ROAD_USER", "ANY"} <= used
+    assert len(used - {"VEHICLE", "VULNERABLE_ROAD_USER", "ANY"}) >= 25
+
+
+def test_the_splits_are_disjoint() -> None:
+    dev = load_eval_set("dev")
+    holdout = load_eval_set("holdout")
+    assert not {normalize_description(e.description) for e in dev} & {
+        normalize_description(e.description) for e in holdout
+    }
+    assert not {description_key(e.description) for e in dev} & {
+        description_key(e.description) for e in holdout
+    }
+
+
+def test_no_holdout_description_is_in_the_bank_or_near_one() -> None:
+    bank = load_examples()
+    bank_text = {normalize_description(e.description) for e in bank}
+    bank_keys = {description_key(e.description) for e in bank}
+    for e in load_eval_set("holdout"):
+        assert normalize_description(e.description) not in bank_text, e.description
+        assert description_key(e.description) not in bank_keys, e.description
+        assert similar_bank_entries(e.description, bank) == [], e.description
+    # nor is any description of the set copied into the bank
+    assert not {normalize_description(e.description) for e in ENTRIES} & bank_text
+
+
+def test_the_selector_never_shows_hidden_descriptions_and_can_drop_the_most_similar() -> None:
+    holdout = load_eval_set("holdout")
+    leaked = ExampleProgram(holdout[0].description, holdout[0].program)
+    bank = (*load_examples(), leaked)
+    selector = BankOnlySelector(bank, HashingEmbedder(64), hidden=[e.description for e in holdout])
+    assert leaked not in selector.examples
+    assert leaked.description not in [x.description for x in selector.select(leaked.description, 5)]
+    query = "vehicle with a bicycle to its right"
+    full = BankOnlySelector(load_examples(), HashingEmbedder(64))
+    assert query not in [x.description for x in full.select(query, 5)]  # leave-one-out
+    assert full.select(query, 1, leave_one_out=False)[0].description == query
+    without = BankOnlySelector(load_examples(), HashingEmbedder(64), exclude_most_similar=2)
+    sims = dict(
+        zip([x.description for x in without.examples], without.similarities(query).tolist(), strict=True)
+    )
+    others = sorted((d for d in sims if d != query), key=lambda d: -sims[d])
+    chosen = [x.description for x in without.select(query, 3)]
+    assert len(chosen) == 3 and query not in chosen and not set(chosen) & set(others[:2])
+    assert max(sims[d] for d in chosen) <= sims[others[1]]
+
+
+def test_malformed_sets_are_refused_with_the_entry_named() -> None:
+    ok = 'description = "x"\nsplit = "dev"\nfamily = ["motion"]\nprogram = "output_scenario(s)"\n'
+    assert parse_eval_set("[[entry]]\n" + ok)[0] == EvalEntry("x", "output_scenario(s)\n", "dev", ("motion",))
+    with pytest.raises(EvalSetError, match="unknown family"):
+        parse_eval_set("[[entry]]\n" + ok.replace('"motion"', '"flying"'))
+    with pytest.raises(EvalSetError, match="split"):
+        parse_eval_set("[[entry]]\n" + ok.replace('"dev"', '"test"'))
+    with pytest.raises(EvalSetError, match="twice"):
+        parse_eval_set(f"[[entry]]\n{ok}[[entry]]\n{ok.replace('x', 'X.')}")
+    with pytest.raises(EvalSetError, match="unknown split"):
+        load_eval_set("train")
+
+
+def test_every_reference_runs_on_the_shared_log_and_most_find_something(shared_log: LogContext) -> None:
+    found = {}
+    for e in ENTRIES:
+        result = run_trusted_program(e.program, shared_log, description=e.description)
+        assert result.error is None and result.scenario is not None, (e.description, result.error)
+        found[e.description] = result.scenario.n_referred_cells > 0
+    assert sum(found.values()) >= len(ENTRIES) / 2
+    holdout = [e.description for e in load_eval_set("holdout")]
+    assert sum(found[d] for d in holdout) >= len(holdout) / 2
+
+
+# ---------------------------------------------------------------------------------- scoring
+
+
+def test_jaccard_of_cell_sets() -> None:
+    a = frozenset({("t1", 1), ("t1", 2)})
+    assert jaccard(a, a) == 1.0 and jaccard(frozenset(), frozenset()) == 1.0
+    assert jaccard(a, frozenset({("t2", 1)})) == 0.0
+    assert jaccard(a, frozenset({("t1", 2), ("t1", 3)})) == pytest.approx(1 / 3)
+
+
+def _entry(description: str) -> EvalEntry:
+    return next(e for e in ENTRIES if e.description == description)
+
+
+SPEEDING = "vehicles speeding up"  # finds something on the shared log
+SCHOOL_BUSES = "school buses"  # finds nothing there
+
+_BOLLARDS = """
+bollards = get_objects_of_category(log_dir, category='BOLLARD')
+output_scenario(bollards, description, log_dir, output_dir)
+"""
+
+
+def _scripted(programs: dict[str, str | None | Exception]) -> Callable[[str], str | None]:
+    def provide(description: str) -> str | None:
+        answer = programs[description]
+        if isinstance(answer, Exception):
+            raise answer
+        return answer
+
+    return provide
+
+
+def test_the_reference_scores_one_and_a_disjoint_candidate_zero(shared_log: LogContext) -> None:
+    entries = [_entry(SPEEDING), _entry(SCHOOL_BUSES)]
+    same = evaluate_nl2prog(entries, [shared_log], reference_provider(entries), candidate_runner=_trusted)
+    assert same.runnable_share == 1.0 and same.mean_jaccard == 1.0 and same.n_scored_cells == 1
+    assert same.empty_cells == (1, 1)
+    speeding, buses = same.descriptions
+    assert speeding.mean_jaccard == 1.0 and speeding.cells[0].reference_cells > 0
+    assert buses.mean_jaccard is None and buses.cells[0].jaccard == 1.0  # both find nothing
+    disjoint = evaluate_nl2prog(
+        entries,
+        [shared_log],
+        _scripted({SPEEDING: _BOLLARDS, SCHOOL_BUSES: _BOLLARDS}),
+        candidate_runner=_trusted,
+    )
+    assert disjoint.runnable_share == 1.0 and disjoint.mean_jaccard == 0.0
+    assert disjoint.empty_cells == (0, 1)  # the bollards are found where the reference finds nothing
+    assert disjoint.descriptions[0].cells[0].shared_cells == 0
+
+
+def test_failing_candidates_are_not_runnable_and_score_zero(shared_log: LogContext) -> None:
+    entries = [_entry(d) for d in (SPEEDING, "vehicles inside an intersection", "bollards", "a box truck")]
+    raising = "x = get_objects_of_category(log_dir, category='FLYING_CAR')\noutput_scenario(x, description)\n"
+    provider = _scripted(
+        {
+            SPEEDING: raising,  # raises when run
+            "vehicles inside an intersection": None,  # no program
+            "bollards": RuntimeError("boom"),  # the provider itself fails
+            "a box truck": "import os\n",  # refused by the checker
+        }
+    )
+    ev = evaluate_nl2prog(entries, [shared_log], provider, candidate_runner=_trusted)
+    assert ev.n_runnable == 0 and ev.mean_jaccard == 0.0 and ev.n_scored_cells == 4
+    errors = [s.error or "" for s in ev.descriptions]
+    assert "FLYING_CAR" in errors[0]
+    assert "no program" in errors[1]
+    assert "provider failed" in errors[2] and "boom" in errors[2]
+    assert "import" in errors[3]
+    assert all(s.cells[0].jaccard == 0.0 for s in ev.descriptions)
+
+
+def test_a_model_failure_stops_the_evaluation(shared_log: LogContext) -> None:
+    provider = _scripted({SPEEDING: LLMError("no model")})
+    with pytest.raises(LLMError):
+        evaluate_nl2prog([_entry(SPEEDING)], [shared_log], provider, candidate_runner=_trusted)
+
+
+def test_sandboxed_candidates_and_aggregates_per_family(shared_log: LogContext) -> None:
+    entries = [_entry(SPEEDING), _entry("vehicles inside an intersection")]
+    partial = _entry(SPEEDING).program.replace("min_accel=1.0", "min_accel=2.0")  # a subset of the cells
+    provider = _scripted({SPEEDING: partial, "vehicles inside an intersection": None})
+    ev = evaluate_nl2prog(entries, [shared_log], provider)  # default: the sandbox
+    speeding = ev.descriptions[0]
+    assert speeding.runnable and speeding.execution_s > 0
+    j = speeding.mean_jaccard
+    assert j is not None and 0 < j < 1
+    assert ev.mean_jaccard == pytest.approx(j / 2)
+    families = ev.per_family()
+    assert families["motion"].mean_jaccard == pytest.approx(j) and families["motion"].n_runnable == 1
+    assert families["intersection"].mean_jaccard == 0.0 and families["intersection"].n_runnable == 0
+    doc = ev.to_json_dict()
+    assert (
+        doc["n_descriptions"] == 2
+        and doc["n_runnable"] == 1
+        and doc["families"]["motion"]["n_scored_cells"] == 1
+    )
+    json.dumps(doc)
+
+
+def test_the_nearest_bank_baseline_copies_the_closest_bank_program() -> None:
+    bank = load_examples()
+    provide = nearest_bank_provider(bank)
+    assert provide("vehicles changing lanes to the right") == next(
+        e.program for e in bank if e.description == "vehicle changing lanes to the left"
+    )
+    assert provide("zzz") is None
+
+
+# ---------------------------------------------------------------------------------- the command
+
+
+def test_eval_nl2prog_command_with_a_scripted_provider(
+    av2_log_dir: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    holdout = load_eval_set("holdout")[:3]
+    answers: dict[str, str | None | Exception] = {
+        holdout[0].description: holdout[0].program,
+        holdout[1].description: None,
+        holdout[2].description: _BOLLARDS,
+    }
+    calls: list[dict[str, Any]] = []
+
+    def fake_generator(validation: Any, config: Any, **kwargs: Any) -> Callable[[str], str | None]:
+        calls.append(kwargs)
+        return _scripted(answers)
+
+    monkeypatch.setattr(evaluation_api, "generator_provider", fake_generator)
+    cfg = tmp_path / "cfg.toml"
+    cfg.write_text(f'[llm]\ncache_dir = "{tmp_path / "cache"}"\n')
+    args = [
+        "eval",
+        "nl2prog",
+        "--split",
+        "holdout",
+        "--limit",
+        "3",
+        "--logs",
+        str(av2_log_dir),
+        "-c",
+        str(cfg),
+    ]
+    res = runner.invoke(app, [*args, "--json"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.output)
+    assert doc["split"] == "holdout" and doc["n_descriptions"] == 3 and doc["n_runnable"] == 2
+    assert [d["description"] for d in doc["descriptions"]] == [e.description for e in holdout]
+    assert (
+        doc["descriptions"][0]["mean_jaccard"] in (1.0, None) and doc["descriptions"][1]["runnable"] is False
+    )
+    assert calls[-1]["exclude_most_similar"] == 0
+    res = runner.invoke(app, [*args, "--no-bank-similar"])
+    assert res.exit_code == 0, res.output
+    assert calls[-1]["exclude_most_similar"] == Config().mining.generation.few_shot_k
+    text = " ".join(res.output.split())
+    assert "runnable 2/3" in text and "mean Jaccard" in text and "per family" in text
+    assert "without the most similar bank entries" in text and "not runnable" in text
+    bad = runner.invoke(
+        app, ["eval", "nl2prog", "--split", "train", "--logs", str(av2_log_dir), "-c", str(cfg)]
+    )
+    assert bad.exit_code == 2 and "unknown split" in bad.output
