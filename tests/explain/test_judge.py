@@ -12,7 +12,14 @@ from scenariominer.explain.baseline import rule_candidates
 from scenariominer.explain.categories import CategorySet
 from scenariominer.explain.classify import ClassificationStatus
 from scenariominer.explain.facts import EventFacts, rules_explanation
-from scenariominer.explain.judge import Judge, allowed_categories, judge_event, rules_only, tidy_cut_text
+from scenariominer.explain.judge import (
+    Judge,
+    allowed_categories,
+    judge_event,
+    rules_only,
+    tidy_cut_text,
+    ungrounded_numbers,
+)
 from scenariominer.llm import ChatClient
 from scenariominer.tags.vocab import HeadingTag, PositionTag
 from scenariominer.testing import ScriptedBackend
@@ -102,3 +109,18 @@ def test_cut_off_texts_end_at_a_sentence_or_clause() -> None:
     )
     clause = "The pedestrian walks across the road ahead of the ego, 4 m away and the ego"
     assert tidy_cut_text(clause, len(clause)) == "The pedestrian walks across the road ahead of the ego …"
+
+
+def test_numbers_not_in_the_facts_are_found() -> None:
+    facts = _facts().text()  # 32 km/h, gap 3.2 m (3.25), TTC 1.4 s, 4.2 m/s²
+    assert ungrounded_numbers("It is 3.2 m ahead at 32 km/h; time to collision 1.4 s.", facts) == []
+    assert ungrounded_numbers("It is 3 m ahead, braking at 4.2 m/s².", facts) == []  # rounding is fine
+    assert ungrounded_numbers("It is 6.2 m ahead at 41 km/h.", facts) == ["6.2", "41"]
+
+
+def test_an_explanation_with_invented_numbers_is_replaced_by_the_facts() -> None:
+    answer = {"description": "A car cuts in.", "explanation": "The car is 6.2 m ahead at 41 km/h."}
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(answer)])), _facts(), ["cut_in"], CATS)
+    assert out.category == "cut_in" and out.description == "A car cuts in."
+    assert "6.2" not in out.explanation and "3.2 m" in out.explanation
+    assert out.notes and "6.2, 41" in out.notes[0]

@@ -76,6 +76,8 @@ class Classification:
         attempts: number of answers requested (0 when pending or the backend failed at once).
         latency_s: seconds spent in the backend for this event (0 for cached answers).
         cached: whether every answer came from the on-disk cache.
+        notes: repairs made to the answer (e.g. an explanation replaced for quoting numbers
+            that are not in the facts).
     """
 
     category: str
@@ -87,6 +89,7 @@ class Classification:
     attempts: int = 0
     latency_s: float = 0.0
     cached: bool = False
+    notes: tuple[str, ...] = ()
 
     @property
     def is_valid(self) -> bool:

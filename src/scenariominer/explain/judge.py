@@ -51,6 +51,8 @@ __all__ = [
     "judge_event",
     "rejudge_events",
     "rules_only",
+    "tidy_cut_text",
+    "ungrounded_numbers",
 ]
 
 
@@ -133,7 +135,34 @@ def judge_event(
             description=tidy_cut_text(outcome.description, JUDGE_DESCRIPTION_MAX_CHARS),
             explanation=tidy_cut_text(outcome.explanation, JUDGE_EXPLANATION_MAX_CHARS),
         )
+        invented = ungrounded_numbers(outcome.explanation, text)
+        if invented and isinstance(facts, EventFacts):
+            note = (
+                f"the LLM's explanation quoted numbers that are not in the facts ({', '.join(invented)}); "
+                "replaced by one written from the facts"
+            )
+            explanation = rules_explanation(outcome.category, facts)
+            outcome = dataclasses.replace(outcome, explanation=explanation, notes=(note,))
     return outcome
+
+
+_NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d+)?")
+
+
+def ungrounded_numbers(text: str, facts_text: str) -> list[str]:
+    """Numbers of ``text`` that no number of the facts rounds to (an invented speed, gap, time).
+
+    A number written with ``d`` decimals matches a fact within half a unit of its last digit
+    (``3`` matches 3.3, ``3.2`` matches 3.25), so rounding is not taken for invention.
+    """
+    known = [float(x) for x in _NUMBER.findall(facts_text)]
+    out = []
+    for token in _NUMBER.findall(text):
+        decimals = len(token.split(".")[1]) if "." in token else 0
+        tolerance = 0.5 * 10.0**-decimals + 1e-9
+        if not any(abs(float(token) - k) <= tolerance for k in known):
+            out.append(token)
+    return out
 
 
 def tidy_cut_text(text: str, max_chars: int) -> str:

@@ -358,6 +358,7 @@ def _analyze_event(
         )
     if outcome.status is ClassificationStatus.INVALID:
         notes.append("the LLM answer was invalid after the repair round")
+    notes.extend(outcome.notes)
     use_llm_text = outcome.is_valid and bool(outcome.description)
     record = EventRecord(
         event_id=event.event_id,

@@ -139,7 +139,7 @@ def build_messages(
 # ---------------------------------------------------------------- judgement from facts (v3)
 
 #: Version of the judgement prompt below (hybrid and LLM-alone judges); stored with every result.
-JUDGE_PROMPT_VERSION = "braking-judge/4"
+JUDGE_PROMPT_VERSION = "braking-judge/5"  # 5: explanations checked against the facts
 
 _JUDGE_ROLE = (
     "You explain why an automated vehicle (the ego) braked, from facts measured in its driving log "
