@@ -49,10 +49,10 @@ def _child(args: argparse.Namespace) -> None:
     )
     client = make_chat_client(llm)
     backend: Any = client.backend
-    if args.case in ("mining", "judge-prompt"):
+    if args.child in ("mining", "judge-prompt"):
         from scenariominer.explain.prompts import judge_system_prompt
 
-        sys_text = mining_prompt() if args.case == "mining" else judge_system_prompt(CategorySet.default())
+        sys_text = mining_prompt() if args.child == "mining" else judge_system_prompt(CategorySet.default())
         for q in ("vehicle turning left at an intersection", "pedestrian crossing in front of a bus"):
             t0 = time.perf_counter()
             c = backend.complete(
@@ -69,7 +69,7 @@ def _child(args: argparse.Namespace) -> None:
     cats = CategorySet.default()
     for e in events:
         t0 = time.perf_counter()
-        if args.case == "braking-v2":
+        if args.child == "braking-v2":
             out = classify_description(client, e["tag_description"], cats, max_tokens=200)
         else:
             cands = [c for c in e["rule_candidates"].split(",") if c]

@@ -32,6 +32,7 @@ def main() -> None:
     from scenariominer.llm.factory import make_chat_client
     from scenariominer.llm.model_files import ensure_model_file
     from scenariominer.llm.server import ServedModel, ServeSettings, free_port
+    from scenariominer.llm.usage import UsageCounter
     from scenariominer.store import ScenarioStore
 
     cats = CategorySet.default()
@@ -66,12 +67,15 @@ def main() -> None:
                     timeout_s=900.0,
                     max_tokens=120,
                 )
-                client = make_chat_client(llm)
-                client.complete_many(conversations[:1])  # warm: the system prompt is evaluated once
+                warm = make_chat_client(llm)
+                warm.complete_many(conversations[:1])  # the system prompt is evaluated once
+                warm.close()
+                usage = UsageCounter()
+                client = make_chat_client(llm, usage=usage)
                 t0 = time.perf_counter()
                 done = client.complete_many(conversations, return_exceptions=True)
                 seconds = time.perf_counter() - t0
-                tokens = sum(getattr(c, "completion_tokens", 0) for c in done)
+                tokens = usage.report().completion_tokens
                 failed = sum(isinstance(c, BaseException) for c in done)
                 rps = args.requests / seconds
                 base = base or rps

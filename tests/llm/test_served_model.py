@@ -70,7 +70,7 @@ def test_analyze_and_mine_through_the_served_model(served: ServedModel, tmp_path
     assert report.n_llm_calls == report.n_events and report.n_invalid == 0
     events = store.read_table("events").to_pylist()
     assert all(e["llm_status"] in ("ok", "repaired") and e["explanation"] for e in events)
-    assert all(e["llm_model"] == "scenariominer" for e in events)
+    assert all(e["llm_model"] == f"scenariominer@{served.base_url}" for e in events)
     chat_rows = [r for r in usage.report().rows if r.kind == "chat"]
     assert chat_rows and chat_rows[0].backend == "openai" and chat_rows[0].calls >= report.n_events
 
