@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from scenariominer import api
@@ -16,13 +17,16 @@ def test_a_lone_surrogate_in_an_error_does_not_lose_the_run(tmp_path: Path) -> N
     api.synth(tmp_path / "synth", 1, seed=2)
     store = ScenarioStore.open(tmp_path / "store")
     assert not api.ingest([tmp_path / "synth"], store, cfg).failed
-    # the category name reaches the error message unchanged: a lone surrogate, not encodable as UTF-8
-    program = "x = get_objects_of_category(log_dir, category='no\\ud800such')\n"
-    program += "output_scenario(x, description, log_dir)"
-    result = api.mine(api.MineRequest("hostile text", store=store, program=program), cfg)
-    assert result.report.failures and result.stored_logs == list(store.log_ids())
-    runs = store.read_table(RUNS_TABLE).to_pylist()
-    (row,) = [r for r in runs if r["description"] == "hostile text"]
+    program = (
+        "x = get_objects_of_category(log_dir, category='NO_SUCH')\noutput_scenario(x, description, log_dir)"
+    )
+    report = api.mine(api.MineRequest("hostile text", logs=(), store=store, program=program), cfg).report
+    (failure,) = report.failures
+    # an error text carrying a raw lone surrogate (a syntax error quoting a stray character does)
+    hostile = dataclasses.replace(failure.error, message="invalid character '\ud800' (U+D800)")
+    report = dataclasses.replace(report, failures=(dataclasses.replace(failure, error=hostile),))
+    assert api.store_report(store, report) == list(store.log_ids())
+    (row,) = [r for r in store.read_table(RUNS_TABLE).to_pylist() if r["description"] == "hostile text"]
     stored = str(row["error"])
-    stored.encode("utf-8")  # valid UTF-8 now
-    assert "no" in stored and "such" in stored
+    stored.encode("utf-8")  # valid UTF-8
+    assert stored.startswith("runtime error: invalid character '")
