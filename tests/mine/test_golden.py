@@ -16,6 +16,23 @@ Changed since, by the RefAV-semantics fixes (docs/mining.md, "RefAV compatibilit
   tracks. Track 2f7995c2 was 89.5-99.1 m from the ego at its 8 cells; its relation to the ego
   was already dropped by the 50 m relation filter, and now, as in RefAV, a referred cell with no
   related object left is dropped too (F6).
+
+Changed by the lane rule of issue 12 A3 (lane type, then heading agreement within 3 degrees, then
+continuity with the previous frame's lane, then the nearest centre line; ``mine/lanes.py``),
+gains only:
+
+* "vehicle following another vehicle": 565 -> 584 cells, 17 tracks as before. Each gained cell
+  is a follower that drives straight and was put on an overlapping lane bearing away from its
+  heading because that lane's centre line was nearer; it is now on the straight lane, in whose
+  semantic lane the lead is. Track e7ccedb1, t58-65 (8 cells, lead 982411f7): heading 92
+  degrees where lane 104 splits into 105 (straight, 0 degrees off) and 119 (bearing right, 5-14
+  degrees off, centre line 0.07-0.66 m away against 105's 0.68-0.88 m); it keeps x = 748 m and is
+  on 105 from t66 under both rules. e7ccedb1, t136-142 (7 cells, lead 982411f7): on the straight
+  intersection lane 129 (0 degrees off) overlapped by the left-turn lane 3 of another approach
+  (15 to 2 degrees off, centre line nearer); it goes on into 129's successor 106. 1afacc7c,
+  t31-32 (2 cells, lead 87c06f51): straight intersection lane 141 (1 degree off) against the
+  left-turn lane 16 (7 and 18 degrees off); it is on 141 from t33 under both rules. 19dd0553,
+  t31-32 (2 cells): its lead 1afacc7c is now on 141, in the semantic lane of 19dd0553's lane 39.
 """
 
 from __future__ import annotations

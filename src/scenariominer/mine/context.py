@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 import shapely
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
@@ -32,6 +32,7 @@ from scenariominer.data.adapters.av2.map import Av2Map, read_av2_map
 from scenariominer.data.categories import expand_categories
 from scenariominer.data.log import BoolArray, FloatArray, Log
 from scenariominer.geometry import OrientedBoxes, box_distance_m, to_local, wrap_angle, yaw_rate_radps
+from scenariominer.mine import lanes as lane_rules
 
 __all__ = [
     "AGENT_CATEGORIES",
@@ -291,35 +292,35 @@ class MapIndex:
         return out
 
     # ------------------------------------------------------------------ vectorised look-ups
-    def lanes_at(self, x_m: FloatArray, y_m: FloatArray, yaw_rad: FloatArray) -> tuple[IntArray, FloatArray]:
+    @cached_property
+    def successor_codes(self) -> IntArray:
+        """Sorted codes ``i * L + j`` of the lane-graph links ``i -> j`` (:func:`lanes.successor_codes`)."""
+        return lane_rules.successor_codes(self.successors)
+
+    def lanes_at(
+        self, x_m: FloatArray, y_m: FloatArray, yaw_rad: FloatArray, categories: ArrayLike | None = None
+    ) -> tuple[IntArray, FloatArray]:
         """Lane segment under each point and the lane's local direction there.
 
-        Uses :meth:`Av2Map.lane_index_at` (closest centre line, heading mismatch penalised, so a
-        vehicle is placed in the lane it drives along).
+        The lane polygons containing the point are the candidates (none: no lane); among several,
+        the lane type suited to the object's category, then continuity with the track's previous
+        lane, then the closest centre line with a heading-mismatch penalty decide
+        (:func:`scenariominer.mine.lanes.assign_lanes`).
 
         Args:
-            x_m: point x, any shape; NaN points get no lane.
+            x_m: point x. A 2-D array is tracks × timestamps (continuity along each row); any
+                other shape holds independent points. NaN points get no lane.
             y_m: point y, same shape.
             yaw_rad: heading at each point (same shape); NaN counts as no preference.
+            categories: category of each row of a 2-D input (``(N,)``) or of each point;
+                ``None``: no lane-type preference.
 
         Returns:
             Lane indices (into :attr:`lane_ids`) of the input shape, -1 where no lane, and the
             local direction (radians) of the chosen lane's centre line at each point (NaN where
             no lane).
         """
-        shape = np.shape(x_m)
-        xy = np.stack([np.ravel(x_m), np.ravel(y_m)], axis=1)
-        lane = self.map.lane_index_at(xy, np.ravel(yaw_rad)) if xy.shape[0] else np.zeros(0, np.int64)
-        direction = np.full(lane.shape, np.nan)
-        has = np.flatnonzero(lane >= 0)
-        if has.size:
-            lines = self.lane_centerlines[lane[has]]
-            pts = shapely.points(xy[has])
-            s = shapely.line_locate_point(lines, pts)
-            p0 = shapely.get_coordinates(shapely.line_interpolate_point(lines, np.maximum(s - 0.5, 0.0)))
-            p1 = shapely.get_coordinates(shapely.line_interpolate_point(lines, s + 0.5))
-            direction[has] = np.arctan2(p1[:, 1] - p0[:, 1], p1[:, 0] - p0[:, 0])
-        return np.asarray(lane, dtype=np.int64).reshape(shape), direction.reshape(shape)
+        return lane_rules.assign_lanes(self.map, self.successor_codes, x_m, y_m, yaw_rad, categories)
 
     def near_intersection(self, x_m: FloatArray, y_m: FloatArray, threshold_m: float) -> BoolArray:
         """Whether each point lies within ``threshold_m`` of an intersection lane polygon (or on it)."""
@@ -627,8 +628,10 @@ class LogContext:
     def lane_index(self, predicate: str) -> IntArray:
         """``(N, T)`` index of the lane segment under each box centre (-1: none), computed once.
 
-        Where lanes overlap (intersections, merges) the lane whose direction is closest to the
-        box heading wins.
+        The lane polygons containing the centre are the candidates; where several do
+        (intersections, merges, overlapping bike lanes) the lane type suited to the track's
+        category wins, then the previous frame's lane or its successor, then the closest centre
+        line with a heading-mismatch penalty (:mod:`scenariominer.mine.lanes`).
 
         Raises:
             MapRequiredError: the log has no map; names ``predicate``.
@@ -645,4 +648,4 @@ class LogContext:
     def _lanes(self) -> tuple[IntArray, FloatArray]:
         hd = self.require_map("lane_index")
         x, y = self.center_xy_m
-        return hd.lanes_at(x, y, self.yaw_rad)
+        return hd.lanes_at(x, y, self.yaw_rad, self.log.categories)

@@ -12,8 +12,9 @@ with three layers, all in the city frame (metres):
 :class:`Av2Map` keeps the records for round-tripping (:func:`write_av2_map`) and builds shapely
 geometry once (lane polygons between the two boundaries, centre lines, crosswalk and drivable
 polygons) plus an :class:`shapely.STRtree` over the lanes, so the queries used by mining predicates
-(:meth:`Av2Map.lane_index_at`, :meth:`Av2Map.in_drivable_area`, :meth:`Av2Map.in_crosswalk`,
-:meth:`Av2Map.distance_to_intersection`) run on whole ``(K, 2)`` point arrays at once.
+(:meth:`Av2Map.lane_candidates`, :meth:`Av2Map.lane_index_at`, :meth:`Av2Map.in_drivable_area`,
+:meth:`Av2Map.in_crosswalk`, :meth:`Av2Map.distance_to_intersection`) run on whole ``(K, 2)``
+point arrays at once.
 """
 
 from __future__ import annotations
@@ -278,12 +279,52 @@ class Av2Map:
         return int(hits[0])
 
     # ------------------------------------------------------------------ vectorised queries
+    def lane_candidates(
+        self, xy: ArrayLike, yaw_rad: ArrayLike | None = None
+    ) -> tuple[IntArray, IntArray, FloatArray, FloatArray]:
+        """Every (point, lane) pair with the point in (or on the edge of) the lane's polygon.
+
+        Args:
+            xy: ``(K, 2)`` points in the city frame, metres (rows with NaN are in no lane).
+            yaw_rad: optional ``(K,)`` headings of the objects at those points.
+
+        Returns:
+            ``(point, lane, cost, lane_yaw)`` arrays of one entry per pair, sorted by point then
+            lane: the point's row in ``xy``, the lane index, the pair's cost in metres (distance
+            from the point to the lane's centre line plus, with ``yaw_rad``, the heading mismatch
+            ``LANE_HEADING_WEIGHT_M * (1 - cos(dyaw))``; a NaN heading adds nothing) and the lane's
+            local direction (radians) at the centre-line point nearest the point.
+        """
+        pts_xy = _as_xy(xy)
+        k = pts_xy.shape[0]
+        finite = np.flatnonzero(np.all(np.isfinite(pts_xy), axis=1))
+        if finite.size == 0 or self.n_lanes == 0:
+            empty = np.zeros(0, dtype=np.int64)
+            return empty, empty.copy(), np.zeros(0), np.zeros(0)
+        points = shapely.points(pts_xy[finite])
+        inp, lane = self.lane_tree.query(points, predicate="intersects")
+        order = np.lexsort((lane, inp))
+        inp, lane = inp[order], lane[order].astype(np.int64)
+        lines = self.lane_centerlines[lane]
+        cost = np.asarray(shapely.distance(points[inp], lines), dtype=np.float64)
+        s = shapely.line_locate_point(lines, points[inp])
+        p0 = shapely.get_coordinates(shapely.line_interpolate_point(lines, np.maximum(s - 0.5, 0.0)))
+        p1 = shapely.get_coordinates(shapely.line_interpolate_point(lines, s + 0.5))
+        lane_yaw = np.arctan2(p1[:, 1] - p0[:, 1], p1[:, 0] - p0[:, 0])
+        if yaw_rad is not None:
+            yaw = np.broadcast_to(np.asarray(yaw_rad, dtype=np.float64), (k,))[finite][inp]
+            penalty = LANE_HEADING_WEIGHT_M * (1.0 - np.cos(yaw - lane_yaw))
+            cost = cost + np.where(np.isfinite(penalty), penalty, 0.0)
+        return finite[inp].astype(np.int64), lane, cost, lane_yaw
+
     def lane_index_at(self, xy: ArrayLike, yaw_rad: ArrayLike | None = None) -> IntArray:
         """Index of the lane containing each point, ``-1`` where no lane does.
 
-        Where lanes overlap (intersections, merges) the lane whose centre line is closest wins;
-        with ``yaw_rad`` a heading mismatch is added as ``LANE_HEADING_WEIGHT_M * (1 - cos(dyaw))``
-        metres, so a vehicle is placed in the lane it drives along.
+        Where lanes overlap (intersections, merges) the lane of lowest
+        :meth:`lane_candidates` cost wins: the closest centre line, with ``yaw_rad`` plus a
+        heading mismatch of ``LANE_HEADING_WEIGHT_M * (1 - cos(dyaw))`` metres. Each point is
+        looked at alone; the mining context's lane per track and frame
+        (:func:`scenariominer.mine.lanes.assign_lanes`) also weighs lane type and continuity.
 
         Args:
             xy: ``(K, 2)`` points in the city frame, metres (rows with NaN give ``-1``).
@@ -293,28 +334,13 @@ class Av2Map:
             ``(K,)`` int64 lane indices into :attr:`lane_segments`.
         """
         pts_xy = _as_xy(xy)
-        k = pts_xy.shape[0]
-        out = np.full(k, -1, dtype=np.int64)
-        finite = np.flatnonzero(np.all(np.isfinite(pts_xy), axis=1))
-        if finite.size == 0 or self.n_lanes == 0:
+        out = np.full(pts_xy.shape[0], -1, dtype=np.int64)
+        point, lane, cost, _ = self.lane_candidates(pts_xy, yaw_rad)
+        if point.size == 0:
             return out
-        points = shapely.points(pts_xy[finite])
-        inp, lane = self.lane_tree.query(points, predicate="intersects")
-        if inp.size == 0:
-            return out
-        cost = shapely.distance(points[inp], self.lane_centerlines[lane])
-        if yaw_rad is not None:
-            yaw = np.broadcast_to(np.asarray(yaw_rad, dtype=np.float64), (k,))[finite][inp]
-            lines = self.lane_centerlines[lane]
-            s = shapely.line_locate_point(lines, points[inp])
-            p0 = shapely.get_coordinates(shapely.line_interpolate_point(lines, np.maximum(s - 0.5, 0.0)))
-            p1 = shapely.get_coordinates(shapely.line_interpolate_point(lines, s + 0.5))
-            lane_yaw = np.arctan2(p1[:, 1] - p0[:, 1], p1[:, 0] - p0[:, 0])
-            penalty = LANE_HEADING_WEIGHT_M * (1.0 - np.cos(yaw - lane_yaw))
-            cost = cost + np.where(np.isfinite(penalty), penalty, 0.0)
-        order = np.lexsort((cost, inp))
-        first_inp, first_pos = np.unique(inp[order], return_index=True)
-        out[finite[first_inp]] = lane[order][first_pos]
+        order = np.lexsort((cost, point))
+        first_point, first_pos = np.unique(point[order], return_index=True)
+        out[first_point] = lane[order][first_pos]
         return out
 
     def in_drivable_area(self, xy: ArrayLike) -> BoolArray:
