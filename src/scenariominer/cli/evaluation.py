@@ -269,16 +269,29 @@ def nl2prog(
             help="Leave the bank entries most similar to each description out of its few-shot examples.",
         ),
     ] = False,
+    samples: Annotated[
+        int | None,
+        typer.Option(
+            "--samples",
+            min=1,
+            help="Candidate programs per description, chosen by agreement of their outputs "
+            "(default: mining.generation.consensus_samples).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
     """Score generated programs against hand-written references (Jaccard of referred track-timestamps)."""
+    import dataclasses
     import json
 
     from scenariominer import api
     from scenariominer.llm.usage import UsageCounter, print_usage
 
     cfg = load_cfg(config)
+    if samples is not None:
+        gen = dataclasses.replace(cfg.mining.generation, consensus_samples=samples)
+        cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()
     with progress_bar(not json_out) as bar:

@@ -51,6 +51,16 @@ def render_query(report: QueryReport) -> None:
                 "not that generation works (use --no-bank for the model's own program)",
                 soft_wrap=True,
             )
+    c = report.consensus
+    if c is not None:
+        valid = sum(1 for x in c.candidates if x.ok)
+        agreed = "-" if c.confidence != c.confidence else f"{c.confidence:.2f}"
+        flag = " [yellow]review: the candidates disagree or too few ran[/yellow]" if c.needs_review else ""
+        out.print(
+            f"consensus: {valid} of {len(c.candidates)} candidate programs ran; the chosen one's mean "
+            f"agreement with the others {agreed}{flag}",
+            soft_wrap=True,
+        )
     table = Table(title=f"matches of {safe(repr(report.description))}", title_justify="left")
     for col in ("log", "track", "category", "timestamps", "from s", "to s", "related"):
         table.add_column(

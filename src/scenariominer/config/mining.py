@@ -98,6 +98,11 @@ class GenerationConfig:
             reproducible. 0 keeps repairs greedy.
         cache_programs: keep the outcome of the loop on disk, keyed by description, model,
             prompt version and prompt text, so mining the same description again costs nothing.
+        consensus_samples: candidate programs per description, the loop's own included; above 1,
+            the extra ones are sampled at ``consensus_temperature`` and the candidate whose output
+            the others agree with most is run (:mod:`scenariominer.mine.consensus`). 1 = off.
+        consensus_temperature: sampling temperature of the extra candidates.
+        consensus_min_agreement: below this mean Jaccard agreement the result is flagged for review.
     """
 
     max_attempts: int = 5
@@ -108,6 +113,9 @@ class GenerationConfig:
     validation_logs: int = 1
     retry_temperature: float = 0.7
     cache_programs: bool = True
+    consensus_samples: int = 1
+    consensus_temperature: float = 0.7
+    consensus_min_agreement: float = 0.5
 
     def __post_init__(self) -> None:
         try:
@@ -125,6 +133,15 @@ class GenerationConfig:
             raise ValueError(f"mining.generation.max_tokens must be >= 16, got {self.max_tokens}")
         if self.validation_logs < 1:
             raise ValueError(f"mining.generation.validation_logs must be >= 1, got {self.validation_logs}")
+        if self.consensus_samples < 1:
+            raise ValueError(
+                f"mining.generation.consensus_samples must be >= 1, got {self.consensus_samples}"
+            )
+        if not 0 <= self.consensus_min_agreement <= 1:
+            raise ValueError(
+                "mining.generation.consensus_min_agreement must be in [0, 1], "
+                f"got {self.consensus_min_agreement}"
+            )
         if not 0 <= self.retry_temperature <= 2:
             raise ValueError(
                 f"mining.generation.retry_temperature must be in [0, 2], got {self.retry_temperature}"

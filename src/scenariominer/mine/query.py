@@ -37,6 +37,7 @@ from scenariominer.mine.clip_filter import (
     candidate_cells,
     restrict_context,
 )
+from scenariominer.mine.consensus import ConsensusReport, consensus_program
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.export import (
     LogMatches,
@@ -118,6 +119,7 @@ class QueryReport:
         failures: logs where the program failed.
         generation: the loop's full report (every attempt), when the model was involved.
         filtered: whether the CLIP candidate filter restricted the program.
+        consensus: the candidates and their agreement, when several were sampled.
     """
 
     description: str
@@ -132,6 +134,7 @@ class QueryReport:
     failures: tuple[LogFailure, ...] = ()
     generation: GenerationReport | None = None
     filtered: bool = False
+    consensus: ConsensusReport | None = None
 
     @property
     def program_sha256(self) -> str:
@@ -156,6 +159,19 @@ class QueryReport:
             "n_matching_logs": self.n_matching_logs,
             "n_failed_logs": len(self.failures),
             "program_sha256": self.program_sha256,
+            **self._consensus_summary(),
+        }
+
+    def _consensus_summary(self) -> dict[str, Any]:
+        c = self.consensus
+        if c is None:
+            return {}
+        confidence = None if c.confidence != c.confidence else round(c.confidence, 3)  # NaN: none
+        return {
+            "consensus_candidates": len(c.candidates),
+            "consensus_valid": sum(1 for x in c.candidates if x.ok),
+            "consensus_confidence": confidence,
+            "needs_review": c.needs_review,
         }
 
 
@@ -221,6 +237,7 @@ def mine_logs(
         raise ValueError("mine_logs needs at least one log")
     contexts = [_context(log, cfg) for log in logs]
     generation: GenerationReport | None = None
+    consensus: ConsensusReport | None = None
     generation_s = 0.0
     attempts = 0
     if program is not None:
@@ -239,12 +256,30 @@ def mine_logs(
             source = ProgramSource.GENERATED
             validation = contexts[: cfg.generation.validation_logs]
             writer = synthesizer if isinstance(synthesizer, ProgramSynthesizer) else synthesizer()
-            generation = generate_program(
-                description, writer, validation, config=cfg, cache=cache, runner=runner, force=force
-            )
+            gen_cfg = cfg.generation
+            if gen_cfg.consensus_samples > 1:
+                consensus = consensus_program(
+                    description,
+                    writer,
+                    validation,
+                    samples=gen_cfg.consensus_samples,
+                    temperature=gen_cfg.consensus_temperature,
+                    min_agreement=gen_cfg.consensus_min_agreement,
+                    config=cfg,
+                    runner=runner,
+                )
+                generation = consensus.generation
+                assert generation is not None
+                program = consensus.program
+            else:
+                generation = generate_program(
+                    description, writer, validation, config=cfg, cache=cache, runner=runner, force=force
+                )
+                program = generation.program
             attempts = generation.attempts_used
             generation_s = 0.0 if generation.from_cache else generation.generation_s + generation.validation_s
-            program = generation.program
+            if consensus is not None:
+                generation_s += consensus.seconds
     run_in_process = trusted if trusted is not None else source is ProgramSource.BANK
     if program is None:
         assert generation is not None
@@ -284,6 +319,7 @@ def mine_logs(
         failures=tuple(failures),
         generation=generation,
         filtered=candidates is not None,
+        consensus=consensus,
     )
 
 
