@@ -210,10 +210,11 @@ def _check_quaternions(quat: FloatArray, path: Path, timestamps: NDArray[np.int6
         )
 
 
-def _yaw_from_rotation(rot: Rotation) -> FloatArray:
-    """Heading of the rotated x axis in the ground plane, radians (no gimbal-lock warnings)."""
-    mat = np.asarray(rot.as_matrix(), dtype=np.float64).reshape(-1, 3, 3)
-    return np.asarray(np.arctan2(mat[:, 1, 0], mat[:, 0, 0]), dtype=np.float64)
+def _x_axis(quat_wxyz: FloatArray) -> FloatArray:
+    """``(N, 3)`` image of the x axis under the rotations ``(N, 4)`` (w, x, y, z; normalised here)."""
+    q = quat_wxyz / np.linalg.norm(quat_wxyz, axis=1, keepdims=True)
+    w, x, y, z = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    return np.stack([1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + w * z), 2.0 * (x * z - w * y)], axis=1)
 
 
 class _EgoPoses:
@@ -361,9 +362,12 @@ def read_av2_log(
         notes.append(
             f"interpolated the ego pose at {n_interp} annotation timestamp(s) missing from {POSES_FILE}"
         )
-    rot_rows = rot_pose[inverse]
-    xyz_city = rot_rows.apply(t_ego) + xyz_pose[inverse]
-    yaw_city = _yaw_from_rotation(rot_rows * Rotation.from_quat(quat, scalar_first=True))
+    # One 3x3 matrix per distinct timestamp, gathered per row: the same rotation as composing
+    # scipy Rotations row by row, without building N Rotation objects (8 ms per real log).
+    mat_rows = np.asarray(rot_pose.as_matrix(), dtype=np.float64).reshape(-1, 3, 3)[inverse]
+    xyz_city = np.einsum("nij,nj->ni", mat_rows, t_ego) + xyz_pose[inverse]
+    heading = np.einsum("nij,nj->ni", mat_rows, _x_axis(quat))
+    yaw_city = np.arctan2(heading[:, 1], heading[:, 0])
     # The ego's box centre lies AV2_EGO_CENTER_OFFSET_M ahead of the pose (rear axle) along its heading
     # (in the ground plane, so Log.ego_pose_xy_m gives the pose back exactly; z stays the pose's).
     is_ego = category == EGO_CATEGORY
