@@ -402,6 +402,19 @@ def _pairs_by_category(events: pa.Table, column: str) -> dict[Pair, list[str]]:
     return out
 
 
+def _pair_of_event(events: pa.Table) -> dict[str, Pair]:
+    """``event_id → (log_id, guest_id)`` of the events table."""
+    return {
+        str(e): (str(lg), str(g))
+        for e, lg, g in zip(
+            events.column("event_id").to_pylist(),
+            events.column("log_id").to_pylist(),
+            events.column("guest_id").to_pylist(),
+            strict=True,
+        )
+    }
+
+
 def _ranked_pairs(
     store: ScenarioStore,
     events: pa.Table,
@@ -414,15 +427,7 @@ def _ranked_pairs(
     if matrix.shape[0] == 0:
         return [], q.model
     ranked = rank(matrix, q.vectors[0])
-    pair_of_event = {
-        str(e): (str(lg), str(g))
-        for e, lg, g in zip(
-            events.column("event_id").to_pylist(),
-            events.column("log_id").to_pylist(),
-            events.column("guest_id").to_pylist(),
-            strict=True,
-        )
-    }
+    pair_of_event = _pair_of_event(events)
     item_ids = keys.column("item_id").to_pylist()
     pairs: list[Pair] = []
     seen: set[Pair] = set()
@@ -539,15 +544,7 @@ def _predictions(
     out = {"rules": _pairs_by_category(events, "baseline_category")}
     if own != "rules":
         out[own] = _pairs_by_category(events, "category")
-    pairs = {
-        str(e): (str(lg), str(g))
-        for e, lg, g in zip(
-            events.column("event_id").to_pylist(),
-            events.column("log_id").to_pylist(),
-            events.column("guest_id").to_pylist(),
-            strict=True,
-        )
-    }
+    pairs = _pair_of_event(events)
     for judge, by_event in extra_judges.items():
         col: dict[Pair, list[str]] = {}
         for event_id, category in by_event.items():

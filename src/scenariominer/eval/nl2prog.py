@@ -730,7 +730,7 @@ def generator_provider(
     Returns:
         description -> the accepted program, or ``None`` when the loop gave up (manual review).
     """
-    from scenariominer.mine.consensus import consensus_program
+    from scenariominer.mine.consensus import configured_consensus
     from scenariominer.mine.loop import generate_program
     from scenariominer.mine.query import make_synthesizer
 
@@ -757,16 +757,7 @@ def generator_provider(
             state["synth"] = synth
         gen_cfg = cfg.mining.generation
         if gen_cfg.consensus_samples > 1:  # several candidates, chosen by agreement of their outputs
-            chosen = consensus_program(
-                description,
-                synth,
-                validation,
-                samples=gen_cfg.consensus_samples,
-                temperature=gen_cfg.consensus_temperature,
-                min_agreement=gen_cfg.consensus_min_agreement,
-                config=cfg.mining,
-            )
-            return chosen.program
+            return configured_consensus(description, synth, validation, cfg.mining).program
         report = generate_program(description, synth, validation, config=cfg.mining, cache=cache)
         return report.program
 

@@ -27,7 +27,14 @@ from scenariominer.mine.loop import GenerationReport, ProgramRunner, generate_pr
 from scenariominer.mine.sandbox import ProgramResult, check_program, run_program
 from scenariominer.mine.synthesis import ProgramSynthesizer
 
-__all__ = ["Candidate", "ConsensusReport", "cell_jaccard", "choose_by_consensus", "consensus_program"]
+__all__ = [
+    "Candidate",
+    "ConsensusReport",
+    "cell_jaccard",
+    "choose_by_consensus",
+    "configured_consensus",
+    "consensus_program",
+]
 
 #: A referred cell: (log id, track id, timestamp index).
 Cell = tuple[str, str, int]
@@ -184,4 +191,25 @@ def consensus_program(
         chosen.needs_review,
         generation=report,
         seconds=time.perf_counter() - t0,
+    )
+
+
+def configured_consensus(
+    description: str,
+    synthesizer: ProgramSynthesizer,
+    validation: Sequence[LogContext],
+    config: MiningConfig,
+    runner: ProgramRunner | None = None,
+) -> ConsensusReport:
+    """:func:`consensus_program` with the sample count, temperature and threshold of ``config``."""
+    gen = config.generation
+    return consensus_program(
+        description,
+        synthesizer,
+        validation,
+        samples=gen.consensus_samples,
+        temperature=gen.consensus_temperature,
+        min_agreement=gen.consensus_min_agreement,
+        config=config,
+        runner=runner,
     )

@@ -37,7 +37,7 @@ from scenariominer.mine.clip_filter import (
     candidate_cells,
     restrict_context,
 )
-from scenariominer.mine.consensus import ConsensusReport, consensus_program
+from scenariominer.mine.consensus import ConsensusReport, configured_consensus
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.export import (
     LogMatches,
@@ -258,16 +258,7 @@ def mine_logs(
             writer = synthesizer if isinstance(synthesizer, ProgramSynthesizer) else synthesizer()
             gen_cfg = cfg.generation
             if gen_cfg.consensus_samples > 1:
-                consensus = consensus_program(
-                    description,
-                    writer,
-                    validation,
-                    samples=gen_cfg.consensus_samples,
-                    temperature=gen_cfg.consensus_temperature,
-                    min_agreement=gen_cfg.consensus_min_agreement,
-                    config=cfg,
-                    runner=runner,
-                )
+                consensus = configured_consensus(description, writer, validation, cfg, runner)
                 generation = consensus.generation
                 assert generation is not None
                 program = consensus.program
