@@ -26,6 +26,7 @@ LAYERS: dict[str, int] = {
     "data": 2,
     "map": 2,
     "synth": 3,
+    "sim": 3,
     "tags": 3,
     "events": 4,
     "llm": 4,
