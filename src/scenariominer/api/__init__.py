@@ -20,6 +20,7 @@ eval mining         :func:`evaluate_mining`                          :mod:`.eval
 eval nl2prog        :func:`evaluate_nl2prog`                         :mod:`.evaluation`
 llm check           :func:`llm_check`                                :mod:`.models`
 llm serve           :func:`serve` (:func:`serve_settings`)          :mod:`.models`
+embed windows       :func:`build_windows`                            :mod:`.represent`
 ==================  ===============================================  ============================
 
 Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
@@ -62,6 +63,8 @@ _EXPORTS: dict[str, str] = {
     "llm_check": "models",
     "serve": "models",
     "serve_settings": "models",
+    "WindowsRequest": "represent",
+    "build_windows": "represent",
 }
 
 __all__ = sorted(_EXPORTS)

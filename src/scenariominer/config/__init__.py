@@ -27,6 +27,7 @@ from scenariominer.config.data import IngestConfig, PreprocessConfig, StoreConfi
 from scenariominer.config.explain import ExplainConfig
 from scenariominer.config.llm import EmbeddingConfig, LLMConfig
 from scenariominer.config.mining import MiningConfig
+from scenariominer.config.represent import RepresentConfig
 from scenariominer.config.tags import TagConfig
 
 __all__ = [
@@ -38,6 +39,7 @@ __all__ = [
     "LLMConfig",
     "MiningConfig",
     "PreprocessConfig",
+    "RepresentConfig",
     "StoreConfig",
     "TagConfig",
     "load_config",
@@ -62,6 +64,7 @@ class Config:
     tags: TagConfig = field(default_factory=TagConfig)
     explain: ExplainConfig = field(default_factory=ExplainConfig)
     mining: MiningConfig = field(default_factory=MiningConfig)
+    represent: RepresentConfig = field(default_factory=RepresentConfig)
 
 
 T = TypeVar("T")
