@@ -278,6 +278,14 @@ def nl2prog(
             "(default: mining.generation.consensus_samples).",
         ),
     ] = None,
+    grammar: Annotated[
+        bool | None,
+        typer.Option(
+            "--grammar/--no-grammar",
+            help="Decode under the program grammar built from the predicates' signatures "
+            "(default: mining.generation.grammar).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
@@ -289,9 +297,12 @@ def nl2prog(
     from scenariominer.llm.usage import UsageCounter, print_usage
 
     cfg = load_cfg(config)
+    gen = cfg.mining.generation
     if samples is not None:
-        gen = dataclasses.replace(cfg.mining.generation, consensus_samples=samples)
-        cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
+        gen = dataclasses.replace(gen, consensus_samples=samples)
+    if grammar is not None:
+        gen = dataclasses.replace(gen, grammar=grammar)
+    cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()
     with progress_bar(not json_out) as bar:

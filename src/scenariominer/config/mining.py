@@ -103,6 +103,9 @@ class GenerationConfig:
             the others agree with most is run (:mod:`scenariominer.mine.consensus`). 1 = off.
         consensus_temperature: sampling temperature of the extra candidates.
         consensus_min_agreement: below this mean Jaccard agreement the result is flagged for review.
+        grammar: decode under the program grammar built from the predicates' signatures
+            (:mod:`scenariominer.mine.grammar`), so every answer is a program of calls to existing
+            functions with arguments of the right kinds (backends without grammar support ignore it).
     """
 
     max_attempts: int = 5
@@ -116,6 +119,7 @@ class GenerationConfig:
     consensus_samples: int = 1
     consensus_temperature: float = 0.7
     consensus_min_agreement: float = 0.5
+    grammar: bool = False
 
     def __post_init__(self) -> None:
         try:

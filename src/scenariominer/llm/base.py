@@ -170,12 +170,20 @@ class ChatRequest:
         json_schema: JSON schema the answer must follow (backends that can constrain decoding use
             it; others ignore it and the client validates); ``None`` for free text.
         schema_name: short name of the schema (sent to servers that require one).
+        grammar: a llama.cpp GBNF grammar the answer must follow (free text that is not JSON, such
+            as a mining program); backends that cannot constrain decoding by a grammar ignore it.
+            Mutually exclusive with ``json_schema``.
     """
 
     messages: tuple[Message, ...]
     params: GenerationParams = field(default_factory=GenerationParams)
     json_schema: Mapping[str, Any] | None = None
     schema_name: str = "response"
+    grammar: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.grammar is not None and self.json_schema is not None:
+            raise ValueError("a request takes a JSON schema or a grammar, not both")
 
     def messages_as_dicts(self) -> list[dict[str, str]]:
         """Return the messages in OpenAI wire form."""
@@ -191,6 +199,8 @@ class ChatRequest:
             "json_schema": self.json_schema,
             "schema_name": self.schema_name if self.json_schema is not None else None,
         }
+        if self.grammar is not None:  # only when set, so keys of grammar-free requests stay as they were
+            payload["grammar"] = self.grammar
         blob = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
         return hashlib.sha256(blob.encode("utf-8")).hexdigest()
 

@@ -213,14 +213,26 @@ class ChatClient:
     # -- single calls -------------------------------------------------------------------------
 
     def completion(
-        self, messages: Sequence[MessageLike], **overrides: Unpack[GenerationOverrides]
+        self,
+        messages: Sequence[MessageLike],
+        *,
+        grammar: str | None = None,
+        **overrides: Unpack[GenerationOverrides],
     ) -> Completion:
         """Free-text completion with token counts and latency.
+
+        Args:
+            messages: the conversation.
+            grammar: a GBNF grammar the answer must follow, for backends that constrain decoding
+                (the embedded llama.cpp model, a llama.cpp server); others ignore it.
+            **overrides: decoding parameters for this call.
 
         Raises:
             BackendError: the backend call failed.
         """
-        request = ChatRequest(normalize_messages(messages), self.params.with_overrides(overrides))
+        request = ChatRequest(
+            normalize_messages(messages), self.params.with_overrides(overrides), grammar=grammar
+        )
         return self._call(request)
 
     def complete(self, messages: Sequence[MessageLike], **overrides: Unpack[GenerationOverrides]) -> str:

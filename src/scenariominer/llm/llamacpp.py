@@ -206,6 +206,10 @@ class LlamaCppBackend:
         }
         if request.json_schema is not None:
             kwargs["response_format"] = {"type": "json_object", "schema": dict(request.json_schema)}
+        if request.grammar is not None:
+            from llama_cpp.llama_grammar import LlamaGrammar
+
+            kwargs["grammar"] = LlamaGrammar.from_string(request.grammar, verbose=False)
         with self._lock:
             self._load_locked()
             t0 = time.perf_counter()

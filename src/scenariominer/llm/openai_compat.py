@@ -222,6 +222,10 @@ class OpenAICompatBackend:
                 body["response_format"] = {"type": "json_object"}
             elif self.structured_mode is StructuredMode.JSON_OBJECT_SCHEMA:
                 body["response_format"] = {"type": "json_object", "schema": dict(request.json_schema)}
+        if request.grammar is not None and self.structured_mode is StructuredMode.JSON_OBJECT_SCHEMA:
+            # llama.cpp servers (the mode's only users) take a GBNF grammar as a request field;
+            # other servers would reject the unknown field, so they get none.
+            body["grammar"] = request.grammar
         return body
 
     def complete(self, request: ChatRequest) -> Completion:

@@ -41,6 +41,7 @@ from scenariominer.config.mining import GenerationConfig, MiningConfig
 from scenariominer.llm.base import Message
 from scenariominer.llm.cache import resolve_cache_dir
 from scenariominer.mine.context import LogContext
+from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.prompts import PROMPT_VERSION, repair_messages
 from scenariominer.mine.sandbox import ErrorKind, ProgramError, ProgramResult, check_program, run_program
 from scenariominer.mine.synthesis import ProgramSynthesizer, normalize_description
@@ -217,6 +218,8 @@ def program_cache_key(
         "max_tokens": config.max_tokens,
         "retry_temperature": config.retry_temperature,
     }
+    if config.grammar:  # only when on, so caches of grammar-free runs keep their keys
+        payload["grammar"] = hashlib.sha256(program_grammar().encode("utf-8")).hexdigest()
     blob = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
     return hashlib.sha256(blob.encode("utf-8")).hexdigest()
 

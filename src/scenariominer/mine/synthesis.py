@@ -24,6 +24,7 @@ from scenariominer.config.mining import GenerationConfig
 from scenariominer.llm.base import GenerationOverrides, Message
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder, Embeddings
+from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
 from scenariominer.retrieval import rank
@@ -227,7 +228,8 @@ class ProgramSynthesizer:
         if seed is not None:
             overrides["seed"] = seed
         t0 = time.perf_counter()
-        completion = self.client.completion(list(messages), **overrides)
+        grammar = program_grammar() if self.config.grammar else None
+        completion = self.client.completion(list(messages), grammar=grammar, **overrides)
         elapsed = time.perf_counter() - t0
         return Generation(
             program=extract_program(completion.text),

@@ -19,6 +19,24 @@ inf = math.inf
 _DIRECTIONS = ("forward", "backward", "left", "right")
 _DIRECTION_ALIASES = {"front": "forward", "ahead": "forward", "behind": "backward", "back": "backward"}
 
+#: The values each text argument of a predicate accepts, by function and argument name: the one
+#: list that the predicates check against and the program grammar (``mine/grammar.py``) offers
+#: the model. ``None`` means the argument may be left out or passed as ``None``. Category
+#: arguments accept the Argoverse 2 names and groups of :mod:`scenariominer.data.categories`.
+ARGUMENT_CHOICES: dict[str, dict[str, tuple[str | None, ...]]] = {
+    "has_objects_in_relative_direction": {"direction": _DIRECTIONS},
+    "get_objects_in_relative_direction": {"direction": _DIRECTIONS},
+    "being_crossed_by": {
+        "direction": _DIRECTIONS,
+        "in_direction": ("clockwise", "counterclockwise", "either"),
+    },
+    "heading_in_relative_direction_to": {"direction": ("same", "opposite", "perpendicular")},
+    "turning": {"direction": ("left", "right", None)},
+    "changing_lanes": {"direction": ("left", "right", None)},
+    "on_lane_type": {"lane_type": ("VEHICLE", "BIKE", "BUS")},
+    "on_relative_side_of_road": {"side": ("same", "opposite")},
+}
+
 # ---------------------------------------------------------------------- argument checking
 
 
@@ -52,8 +70,9 @@ def _scenario(value: Any, name: str, func: str, ctx: LogContext | None, example:
     return value
 
 
-def _choice(value: Any, allowed: tuple[Any, ...], name: str, func: str) -> Any:
-    """Return the allowed value equal to ``value`` (strings compared case-insensitively)."""
+def _choice(value: Any, name: str, func: str) -> Any:
+    """The value of ``ARGUMENT_CHOICES[func][name]`` equal to ``value`` (text compared case-insensitively)."""
+    allowed = ARGUMENT_CHOICES[func][name]
     for option in allowed:
         if value == option or (
             isinstance(value, str) and isinstance(option, str) and value.lower() == option.lower()

@@ -80,7 +80,7 @@ def on_lane_type(track_candidates: Scenario, log_dir: LogContext, lane_type: str
     tc, ctx = _unary_args(track_candidates, log_dir, func, "on_lane_type(vehicles, log_dir, lane_type='BUS')")
     if not isinstance(lane_type, str):
         raise TypeError(f"on_lane_type(): lane_type must be 'VEHICLE', 'BIKE' or 'BUS', got {lane_type!r}")
-    kind = _choice(lane_type, ("VEHICLE", "BIKE", "BUS"), "lane_type", func)
+    kind = _choice(lane_type, "lane_type", func)
     hd = ctx.require_map(func)
     lane = ctx.lane_index(func)
     types = np.append(hd.lane_types, "")
@@ -241,7 +241,7 @@ def on_relative_side_of_road(
     func = "on_relative_side_of_road"
     example = "on_relative_side_of_road(vehicles, ego, log_dir, side='opposite')"
     tc, rc, ctx = _binary_args(track_candidates, related_candidates, log_dir, func, example)
-    side = _choice(side, ("same", "opposite"), "side", func)
+    side = _choice(side, "side", func)
     hd = ctx.require_map(func)
     lane = ctx.lane_index(func)
     pairs = _pairs(tc, rc)

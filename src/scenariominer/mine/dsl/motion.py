@@ -211,7 +211,7 @@ def turning(track_candidates: Scenario, log_dir: LogContext, direction: str | No
     """
     func = "turning"
     tc, ctx = _unary_args(track_candidates, log_dir, func, "turning(vehicles, log_dir, direction='left')")
-    direction = _choice(direction, ("left", "right", None), "direction", func)
+    direction = _choice(direction, "direction", func)
     left, right = ctx.memo(("turning",), lambda: _turning_masks(ctx))
     mask = left if direction == "left" else right if direction == "right" else left | right
     return tc.restrict(mask)
@@ -284,7 +284,7 @@ def changing_lanes(track_candidates: Scenario, log_dir: LogContext, direction: s
     tc, ctx = _unary_args(
         track_candidates, log_dir, func, "changing_lanes(vehicles, log_dir, direction='left')"
     )
-    direction = _choice(direction, ("left", "right", None), "direction", func)
+    direction = _choice(direction, "direction", func)
     ctx.require_map(func)
     left, right = ctx.memo(("changing_lanes",), lambda: _lane_change_masks(ctx))
     mask = left if direction == "left" else right if direction == "right" else left | right

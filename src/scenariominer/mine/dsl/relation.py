@@ -11,7 +11,6 @@ from scenariominer.geometry import wrap_angle
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.dsl._common import (
     _DIRECTION_ALIASES,
-    _DIRECTIONS,
     _binary_args,
     _choice,
     _deriv_last_axis,
@@ -118,9 +117,7 @@ def has_objects_in_relative_direction(
     func = "has_objects_in_relative_direction"
     example = "has_objects_in_relative_direction(vehicles, bicycles, log_dir, direction='right')"
     tc, rc, ctx = _binary_args(track_candidates, related_candidates, log_dir, func, example)
-    direction = _choice(
-        _DIRECTION_ALIASES.get(str(direction).lower(), direction), _DIRECTIONS, "direction", func
-    )
+    direction = _choice(_DIRECTION_ALIASES.get(str(direction).lower(), direction), "direction", func)
     lo = _number(min_number, "min_number", func, minimum=0)
     hi = _number(max_number, "max_number", func, minimum=0)
     dist_max = _number(within_distance, "within_distance", func, minimum=0)
@@ -350,10 +347,8 @@ def being_crossed_by(
     tc, rc, ctx = _binary_args(
         track_candidates, related_candidates, log_dir, func, "being_crossed_by(vehicles, peds, log_dir)"
     )
-    direction = _choice(
-        _DIRECTION_ALIASES.get(str(direction).lower(), direction), _DIRECTIONS, "direction", func
-    )
-    in_direction = _choice(in_direction, ("clockwise", "counterclockwise", "either"), "in_direction", func)
+    direction = _choice(_DIRECTION_ALIASES.get(str(direction).lower(), direction), "direction", func)
+    in_direction = _choice(in_direction, "in_direction", func)
     reach = _number(forward_thresh, "forward_thresh", func, minimum=0)
     lat = _number(lateral_thresh, "lateral_thresh", func, minimum=0)
     pairs = _pairs(tc, rc)
@@ -519,7 +514,7 @@ def heading_in_relative_direction_to(
     func = "heading_in_relative_direction_to"
     example = "heading_in_relative_direction_to(vehicles, ego, log_dir, direction='opposite')"
     tc, rc, ctx = _binary_args(track_candidates, related_candidates, log_dir, func, example)
-    direction = _choice(direction, ("same", "opposite", "perpendicular"), "direction", func)
+    direction = _choice(direction, "direction", func)
     cfg = ctx.config
     pairs = _pairs(tc, rc)
     if pairs.rows.size == 0 or pairs.cols.size == 0:
