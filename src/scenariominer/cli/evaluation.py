@@ -286,6 +286,14 @@ def nl2prog(
             "(default: mining.generation.grammar).",
         ),
     ] = None,
+    plan: Annotated[
+        bool | None,
+        typer.Option(
+            "--plan/--no-plan",
+            help="Read each description into a structured plan before writing its program "
+            "(default: mining.generation.plan).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
@@ -302,6 +310,8 @@ def nl2prog(
         gen = dataclasses.replace(gen, consensus_samples=samples)
     if grammar is not None:
         gen = dataclasses.replace(gen, grammar=grammar)
+    if plan is not None:
+        gen = dataclasses.replace(gen, plan=plan)
     cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()

@@ -41,6 +41,15 @@ def render_query(report: QueryReport) -> None:
                 f"{attempt.execution_s:.2f} s checks: {verdict}",
                 soft_wrap=True,
             )
+    plan = report.generation.plan if report.generation is not None else None
+    if plan:
+        from scenariominer.mine.plan import plan_text
+
+        if "error" in plan:
+            out.print(f"[yellow]plan:[/yellow] not formed ({safe(str(plan['error']))})", soft_wrap=True)
+        else:
+            out.print("[bold]plan[/bold] (how the description was read):")
+            out.print(Text(plain(plan_text(plan))), highlight=False)
     if report.program is not None:
         out.print(f"[bold]program[/bold] ({report.source.value}, sha256 {report.program_sha256[:12]}):")
         out.print(Text(plain(report.program.rstrip())), highlight=False)

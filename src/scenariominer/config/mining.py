@@ -106,6 +106,9 @@ class GenerationConfig:
         grammar: decode under the program grammar built from the predicates' signatures
             (:mod:`scenariominer.mine.grammar`), so every answer is a program of calls to existing
             functions with arguments of the right kinds (backends without grammar support ignore it).
+        plan: before writing, extract a structured plan of the description (subject and related
+            categories, relations, conditions, stated numbers; :mod:`scenariominer.mine.plan`)
+            with one schema-constrained call, show it in the program request and store it.
     """
 
     max_attempts: int = 5
@@ -120,6 +123,7 @@ class GenerationConfig:
     consensus_temperature: float = 0.7
     consensus_min_agreement: float = 0.5
     grammar: bool = False
+    plan: bool = False
 
     def __post_init__(self) -> None:
         try:

@@ -132,6 +132,7 @@ class GenerationReport:
         validation_log_ids: the logs every accepted program ran on.
         max_attempts: the K the loop ran with.
         from_cache: whether this report was read from the program cache (no model call made).
+        plan: the description's plan when planning is on (:mod:`scenariominer.mine.plan`).
     """
 
     description: str
@@ -143,6 +144,7 @@ class GenerationReport:
     validation_log_ids: tuple[str, ...] = ()
     max_attempts: int = 5
     from_cache: bool = False
+    plan: dict[str, Any] | None = None
 
     @property
     def ok(self) -> bool:
@@ -180,6 +182,7 @@ class GenerationReport:
             "prompt_version": self.prompt_version,
             "validation_log_ids": list(self.validation_log_ids),
             "max_attempts": self.max_attempts,
+            "plan": self.plan,
         }
         return json.dumps(d, ensure_ascii=False)
 
@@ -197,6 +200,7 @@ class GenerationReport:
             validation_log_ids=tuple(d.get("validation_log_ids", ())),
             max_attempts=int(d.get("max_attempts", len(d["attempts"]))),
             from_cache=from_cache,
+            plan=d.get("plan"),
         )
 
 
@@ -420,6 +424,7 @@ def generate_program(
         model=synthesizer.model,
         validation_log_ids=tuple(ctx.log_id for ctx in validation),
         max_attempts=gen_cfg.max_attempts,
+        plan=synthesizer.plan_for(description),
     )
     if cache is not None:
         cache.put(key, report)

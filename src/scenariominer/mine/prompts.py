@@ -83,6 +83,10 @@ reverse_relationship(function)(...) when the description refers to the other obj
 
 _EXAMPLES_HEADER = "Example programs for similar descriptions:"
 _TASK = "Write the program for this description."
+_PLAN_HEADER = (
+    "A first reading of the description (use its categories, functions and numbers unless they "
+    "contradict the description):"
+)
 _REPAIR = (
     "That program failed: {error}\n"
     "Write the corrected complete program for the same description, again in one ```python "
@@ -242,13 +246,14 @@ def _fenced(program: str) -> str:
     return f"```python\n{program.strip()}\n```"
 
 
-def user_prompt(description: str, examples: Sequence[ExampleProgram] = ()) -> str:
+def user_prompt(description: str, examples: Sequence[ExampleProgram] = (), plan: str | None = None) -> str:
     """The user message: the few-shot examples, then the description (last).
 
     Args:
         description: the scenario description to write a program for.
         examples: example programs, most similar first; they are listed most similar LAST so the
             closest example sits next to the description.
+        plan: the description's plan (:func:`scenariominer.mine.plan.plan_text`), shown after it.
     """
     parts: list[str] = []
     if examples:
@@ -256,6 +261,8 @@ def user_prompt(description: str, examples: Sequence[ExampleProgram] = ()) -> st
         for ex in reversed(list(examples)):
             parts.append(f"Description: {ex.description}\n{_fenced(ex.program)}")
     parts.append(f"{_TASK}\nDescription: {description.strip()}")
+    if plan:
+        parts.append(f"{_PLAN_HEADER}\n{plan}")
     return "\n\n".join(parts)
 
 
@@ -263,9 +270,10 @@ def build_messages(
     description: str,
     examples: Sequence[ExampleProgram] = (),
     style: ReferenceStyle | str = ReferenceStyle.COMPACT,
+    plan: str | None = None,
 ) -> list[Message]:
     """The first request for a description: system message, then the user message."""
-    return [system(system_prompt(style)), user(user_prompt(description, examples))]
+    return [system(system_prompt(style)), user(user_prompt(description, examples, plan))]
 
 
 def repair_message(error_feedback: str, *, repeated: bool = False) -> str:

@@ -17,6 +17,7 @@ import re
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -24,7 +25,9 @@ from scenariominer.config.mining import GenerationConfig
 from scenariominer.llm.base import GenerationOverrides, Message
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder, Embeddings
+from scenariominer.llm.errors import StructuredOutputError
 from scenariominer.mine.grammar import program_grammar
+from scenariominer.mine.plan import extract_plan, plan_text
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
 from scenariominer.retrieval import rank
@@ -191,6 +194,7 @@ class ProgramSynthesizer:
         self.selector = selector
         self.config = config or GenerationConfig()
         self.leave_one_out = leave_one_out
+        self.plans: dict[str, dict[str, Any]] = {}
 
     @property
     def model(self) -> str:
@@ -203,9 +207,26 @@ class ProgramSynthesizer:
             return []
         return self.selector.select(description, self.config.few_shot_k, leave_one_out=self.leave_one_out)
 
+    def plan_for(self, description: str) -> dict[str, Any] | None:
+        """The description's plan (one model call, kept per description); ``None`` when planning is off.
+
+        A plan the model cannot produce in a valid form is recorded as ``{"error": ...}`` and
+        the program is written without it.
+        """
+        if not self.config.plan:
+            return None
+        if description not in self.plans:
+            try:
+                self.plans[description] = extract_plan(self.client, description)
+            except StructuredOutputError as exc:
+                self.plans[description] = {"error": str(exc)[:300]}
+        return self.plans[description]
+
     def first_messages(self, description: str) -> list[Message]:
-        """The first request for ``description`` (system message, examples, description)."""
-        return build_messages(description, self.examples_for(description), self.config.reference_style)
+        """The first request for ``description`` (system message, examples, description, plan)."""
+        plan = self.plan_for(description)
+        shown = plan_text(plan) if plan and "error" not in plan else None
+        return build_messages(description, self.examples_for(description), self.config.reference_style, shown)
 
     def generate(
         self, messages: Sequence[Message], *, temperature: float | None = None, seed: int | None = None

@@ -1,0 +1,92 @@
+"""Prompt of the plan step (:mod:`scenariominer.mine.plan`): read a description, name its parts.
+
+The worked examples below use descriptions of the shipped example bank's *dev* side only (never
+the hold-out part of ``eval/nl2prog_set.toml``), written by hand for this prompt.
+"""
+
+from __future__ import annotations
+
+import inspect
+import json
+from collections.abc import Callable, Mapping
+from typing import Any
+
+__all__ = ["PLAN_PROMPT_VERSION", "plan_system_prompt", "plan_user_prompt"]
+
+#: Version of the texts below; part of the program-cache key through the request text.
+PLAN_PROMPT_VERSION = "mining-plan/1"
+
+_ROLE = """You read a description of a driving scenario and write down its parts as JSON, before \
+a program is written for it. Name only what the description says:
+- subject: the objects the description is about (what would be highlighted), with their \
+category; a plural or a synonym maps to the same category ("cars", "a car" -> REGULAR_VEHICLE; \
+"vehicles" -> VEHICLE; "people" -> PEDESTRIAN).
+- related: other objects the subject is related to, with their categories (empty if none).
+- relations: how the subject relates to each other object, as one of the relation functions \
+below (direction only when the description gives one: left, right, forward, backward).
+- conditions: what holds for the subject alone, as one of the condition functions below \
+(negated when the description says "not"/"without"); argument is a short keyword setting \
+such as direction='left' or lane_type='BUS' when the description implies one.
+- numbers: only numbers written in the description, with their unit and what they bound.
+Leave a list empty rather than guess."""
+
+_EXAMPLES: tuple[tuple[str, dict[str, Any]], ...] = (
+    (
+        "vehicle with a bicycle to its right",
+        {
+            "subject_words": "vehicle",
+            "subject_category": "VEHICLE",
+            "related": [{"words": "bicycle", "category": "BICYCLE"}],
+            "relations": [
+                {
+                    "subject_words": "vehicle",
+                    "function": "has_objects_in_relative_direction",
+                    "other_words": "bicycle",
+                    "direction": "right",
+                }
+            ],
+            "conditions": [],
+            "numbers": [],
+        },
+    ),
+    (
+        "moving buses within 15 m of an intersection",
+        {
+            "subject_words": "buses",
+            "subject_category": "BUS",
+            "related": [],
+            "relations": [],
+            "conditions": [
+                {"function": "has_velocity", "negated": False, "argument": None},
+                {"function": "near_intersection", "negated": False, "argument": "threshold=15"},
+            ],
+            "numbers": [{"value": 15, "unit": "m", "meaning": "distance to the intersection"}],
+        },
+    ),
+)
+
+
+def _summary(func: Callable[..., Any]) -> str:
+    doc = inspect.getdoc(func) or ""
+    return doc.splitlines()[0] if doc else ""
+
+
+def plan_system_prompt(functions: Mapping[str, Callable[..., Any]]) -> str:
+    """The system message: role, the relation and condition functions (one line each), examples."""
+    relations: list[str] = []
+    conditions: list[str] = []
+    for name, func in functions.items():
+        line = f"- {name}: {_summary(func)}"
+        (relations if "related_candidates" in inspect.signature(func).parameters else conditions).append(line)
+    examples = "\n\n".join(
+        f"Description: {text}\nPlan: {json.dumps(plan, separators=(',', ':'))}" for text, plan in _EXAMPLES
+    )
+    return (
+        f"{_ROLE}\n\nRelation functions:\n" + "\n".join(relations) + "\n\nCondition functions:\n"
+        + "\n".join(conditions) + f"\n\nExamples:\n\n{examples}"
+    )  # fmt: skip
+
+
+def plan_user_prompt(description: str) -> str:
+    """The user message: the description to read."""
+    return f"Description: {description.strip()}"
