@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
+import highd_files  # tests/data, on the test path (pyproject.toml)
 import numpy as np
 import pytest
 
@@ -12,11 +12,8 @@ from scenariominer.config import Config
 from scenariominer.config.represent import WindowConfig
 from scenariominer.data.adapters.highd import HighDReader
 from scenariominer.represent.lanes import log_lane_ids
-from scenariominer.represent.windows import extract_windows, window_id
+from scenariominer.represent.windows import ROAD_USER_CATEGORIES, extract_windows, window_id
 from scenariominer.testing import LogBuilder, times
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "data"))
-import highd_files  # noqa: E402
 
 
 def _north_log(duration_s: float = 10.0, dt_s: float = 0.1) -> LogBuilder:
@@ -145,3 +142,37 @@ def test_highd_lane_ids_follow_a_lane_change(tmp_path: Path) -> None:
 
 def test_a_log_without_lanes_gets_none() -> None:
     assert log_lane_ids(_north_log().build()) is None
+
+
+def test_windows_of_the_real_av2_log(av2_log_dir: Path, tmp_path: Path) -> None:
+    from scenariominer.api import ingest, open_store
+    from scenariominer.config import load_config
+    from scenariominer.represent.pipeline import build_store_windows
+    from scenariominer.represent.window_table import load_windows
+
+    store = open_store(tmp_path / "store")
+    ingest([av2_log_dir], store, load_config())
+    log = store.load_log(store.log_ids()[0])
+    assert 15.0 < log.duration_s < 16.0
+    config = WindowConfig(lengths_s=(5.0, 15.0), overlap=0.5)
+    report = build_store_windows(store, config)
+    assert report.logs[0].has_lanes
+    ws = load_windows(store)
+    assert sorted(zip(ws.length_s.tolist(), ws.start_s.tolist(), strict=True)) == [
+        (5.0, 0.0),
+        (5.0, 2.5),
+        (5.0, 5.0),
+        (5.0, 7.5),
+        (5.0, 10.0),
+        (15.0, 0.0),
+    ]
+    assert (ws.agent_ids == log.track_ids[0]).all()
+    # the ego drives on mapped lanes: a lane segment id at every step of every window
+    assert (ws.lane_ids[:, 0] > 0).all()
+    # neighbours are nearest first: mean distance over the commonly observed steps grows with the row
+    w = ws.select([int(np.argmax(ws.length_s))])
+    d = np.linalg.norm(w.xy_m[0, 1:] - w.xy_m[0, :1], axis=-1)
+    both = w.valid[0, 1:] & w.valid[0, :1]
+    mean_d = (d * both).sum(axis=1) / np.maximum(both.sum(axis=1), 1)
+    assert np.all(np.diff(mean_d[both.any(axis=1)]) >= -1e-3)
+    assert set(w.categories[0, 1:].tolist()) <= set(ROAD_USER_CATEGORIES) | {""}

@@ -21,6 +21,11 @@ eval nl2prog        :func:`evaluate_nl2prog`                         :mod:`.eval
 llm check           :func:`llm_check`                                :mod:`.models`
 llm serve           :func:`serve` (:func:`serve_settings`)          :mod:`.models`
 embed windows       :func:`build_windows`                            :mod:`.represent`
+embed train         :func:`train_embedder`                           :mod:`.represent`
+embed apply         :func:`apply_embedder`                           :mod:`.represent`
+embed cluster       :func:`cluster_windows`                          :mod:`.represent`
+embed plot          :func:`plot_embeddings`                          :mod:`.represent`
+similar             :func:`similar`                                  :mod:`.represent`
 ==================  ===============================================  ============================
 
 Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
@@ -65,6 +70,16 @@ _EXPORTS: dict[str, str] = {
     "serve_settings": "models",
     "WindowsRequest": "represent",
     "build_windows": "represent",
+    "TrainRequest": "represent",
+    "ApplyRequest": "represent",
+    "ClusterRequest": "represent",
+    "PlotRequest": "represent",
+    "SimilarRequest": "represent",
+    "train_embedder": "represent",
+    "apply_embedder": "represent",
+    "cluster_windows": "represent",
+    "plot_embeddings": "represent",
+    "similar": "represent",
 }
 
 __all__ = sorted(_EXPORTS)

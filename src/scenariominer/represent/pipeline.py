@@ -94,7 +94,7 @@ def build_store_windows(
                 log = store.load_log(log_id)
                 lanes = log_lane_ids(log)
                 windows = extract_windows(log, config, lanes)
-                save_log_windows(store, log_id, windows, chash, meta.source_hash)
+                save_log_windows(store, log_id, windows, config, meta.source_hash)
                 results.append(LogWindowsResult(log_id, "built", len(windows), lanes is not None))
             except (_errors.ScenarioMinerError, ValueError, OSError) as exc:
                 results.append(LogWindowsResult(log_id, "failed", 0, error=f"{type(exc).__name__}: {exc}"))

@@ -7,9 +7,10 @@ its blob is an uncompressed ``.npz`` with ``xy_m`` ``(A, S, 2)`` float32, ``vxy_
 float32, ``valid`` ``(A, S)`` bool and ``lane_ids`` ``(A, S)`` int64 (see
 :class:`~.windows.WindowSet`).
 
-``represent_window_logs`` (schema 1) has one row per log, key the log id: ``config``,
-``source_hash`` (of the log when its windows were cut) and ``window_ids``. A log whose row matches
-the current settings and source hash is up to date; adding a log writes that log's rows only.
+``represent_window_logs`` (schema 1) has one row per log, key the log id: ``config``, ``settings``
+(the window settings themselves), ``source_hash`` (of the log when its windows were cut) and
+``window_ids``. A log whose row matches the current settings and source hash is up to date;
+adding a log writes that log's rows only.
 """
 
 from __future__ import annotations
@@ -17,8 +18,9 @@ from __future__ import annotations
 import hashlib
 import io
 import json
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 
@@ -35,6 +37,7 @@ __all__ = [
     "load_windows",
     "log_window_records",
     "save_log_windows",
+    "window_config_from",
     "window_config_hash",
 ]
 
@@ -58,12 +61,25 @@ class LogWindowsRecord:
         config: :func:`window_config_hash` of the settings they were cut with.
         source_hash: the log's source hash when they were cut.
         window_ids: ids of its windows (possibly none).
+        settings: the window settings themselves (:class:`WindowConfig` fields).
     """
 
     log_id: str
     config: str
     source_hash: str
     window_ids: tuple[str, ...]
+    settings: dict[str, Any]
+
+    def window_config(self) -> WindowConfig:
+        """The :class:`WindowConfig` the windows were cut with."""
+        return window_config_from(self.settings)
+
+
+def window_config_from(settings: Mapping[str, Any]) -> WindowConfig:
+    """A :class:`WindowConfig` from its stored fields (lists back to tuples)."""
+    fields = dict(settings)
+    fields["lengths_s"] = tuple(float(v) for v in fields.get("lengths_s", (15.0,)))
+    return WindowConfig(**fields)
 
 
 def _pack(ws: WindowSet, i: int) -> bytes:
@@ -73,9 +89,10 @@ def _pack(ws: WindowSet, i: int) -> bytes:
 
 
 def save_log_windows(
-    store: ScenarioStore, log_id: str, windows: WindowSet, config_hash: str, source_hash: str
+    store: ScenarioStore, log_id: str, windows: WindowSet, config: WindowConfig, source_hash: str
 ) -> None:
-    """Replace the windows of ``log_id`` by ``windows`` (all of which must come from that log)."""
+    """Replace the windows of ``log_id`` by ``windows`` (cut with ``config``; all from that log)."""
+    config_hash = window_config_hash(config)
     if len(windows) and set(windows.log_ids.tolist()) != {log_id}:
         raise ValueError(f"save_log_windows({log_id!r}) got windows of other logs")
     table = store.corpus(WINDOWS_TABLE, WINDOWS_SCHEMA)
@@ -100,7 +117,14 @@ def save_log_windows(
     if stale:
         table.delete(sorted(stale))
     store.corpus(WINDOW_LOGS_TABLE, WINDOWS_SCHEMA).upsert(
-        {log_id: {"config": config_hash, "source_hash": source_hash, "window_ids": list(rows)}}
+        {
+            log_id: {
+                "config": config_hash,
+                "settings": asdict(config),
+                "source_hash": source_hash,
+                "window_ids": list(rows),
+            }
+        }
     )
 
 
@@ -111,7 +135,11 @@ def log_window_records(
     rows = store.corpus(WINDOW_LOGS_TABLE, WINDOWS_SCHEMA).rows(None if log_ids is None else list(log_ids))
     return {
         r.key: LogWindowsRecord(
-            r.key, str(r.data["config"]), str(r.data["source_hash"]), tuple(r.data["window_ids"])
+            r.key,
+            str(r.data["config"]),
+            str(r.data["source_hash"]),
+            tuple(r.data["window_ids"]),
+            dict(r.data.get("settings") or {}),
         )
         for r in rows
     }

@@ -26,7 +26,7 @@ from scenariominer.data.log import Log
 from scenariominer.geometry import to_local
 from scenariominer.represent.errors import WindowConfigMismatchError
 
-__all__ = ["ROAD_USER_CATEGORIES", "WindowSet", "extract_windows", "window_id"]
+__all__ = ["ROAD_USER_CATEGORIES", "WindowSet", "extract_agent_window", "extract_windows", "window_id"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -254,9 +254,11 @@ def _extract_length(
     chosen: IntArray,
     road_user: BoolArray,
     lane_ids: IntArray | None,
+    starts: FloatArray | None = None,
 ) -> WindowSet:
-    """Windows of one length for the ``chosen`` track indices."""
-    starts = _window_starts(log.duration_s, length_s, config.overlap, config.end_tolerance_s)
+    """Windows of one length for the ``chosen`` track indices (at ``starts``, default: the planned ones)."""
+    if starts is None:
+        starts = _window_starts(log.duration_s, length_s, config.overlap, config.end_tolerance_s)
     if starts.size == 0 or chosen.size == 0:
         return WindowSet.empty(1 + config.k_neighbours, config.n_steps)
     query = starts[:, None] + np.linspace(0.0, length_s, config.n_steps)[None, :]
@@ -301,3 +303,25 @@ def _extract_length(
         valid=valid,
         lane_ids=lanes.astype(np.int64),
     )
+
+
+def extract_agent_window(
+    log: Log,
+    config: WindowConfig,
+    track_id: str,
+    start_s: float,
+    length_s: float,
+    lane_ids: IntArray | None = None,
+) -> WindowSet:
+    """The one window of ``track_id`` starting ``start_s`` seconds after the log start (query by example).
+
+    Returns:
+        One window, or none when the track is not observed at every step of it.
+
+    Raises:
+        KeyError: the track is not in the log.
+    """
+    road_user = np.isin(log.categories, sorted(ROAD_USER_CATEGORIES))
+    chosen = np.asarray([log.track_index(track_id)], dtype=np.int64)
+    starts = np.asarray([float(start_s)])
+    return _extract_length(log, config, length_s, chosen, road_user, lane_ids, starts)
