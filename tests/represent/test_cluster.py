@@ -13,6 +13,7 @@ from scenariominer.represent.cluster import (
     CLUSTER_LABELS_TABLE,
     approximate_labels,
     fit_clusters,
+    lane_changes_by_cluster,
     latest_clustering,
     load_labels,
 )
@@ -119,3 +120,11 @@ def test_adding_a_log_extends_windows_embeddings_and_clusters_without_recomputin
     assert plots.n_windows == 108
     assert sorted(p.name for p in plots.files)[:2] == ["clusters.png", "lane_change.png"]
     assert all(p.stat().st_size > 1000 for p in plots.files)
+
+
+def test_lane_changes_are_counted_per_cluster_and_in_the_noise() -> None:
+    labels = np.asarray([0, 0, 1, 1, 1, -1, -1, 2])
+    lane_change = np.asarray([1.0, 0.0, 1.0, 1.0, np.nan, 1.0, 0.0, 0.0])
+    per, noise = lane_changes_by_cluster(labels, lane_change)
+    assert per.tolist() == [1, 2, 0]
+    assert noise == 1

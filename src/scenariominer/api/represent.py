@@ -167,6 +167,7 @@ class ClusterRequest:
     loss: str | None = None
     min_cluster_size: int | None = None
     min_samples: int | None = None
+    selection: str | None = None
 
 
 def cluster_windows(
@@ -180,7 +181,11 @@ def cluster_windows(
         NoWindowsError: too few embedded windows.
     """
     cfg = _replace_section(
-        config, "cluster", min_cluster_size=request.min_cluster_size, min_samples=request.min_samples
+        config,
+        "cluster",
+        min_cluster_size=request.min_cluster_size,
+        min_samples=request.min_samples,
+        selection=request.selection,
     )
     return cluster_store(
         store, cfg.represent.cluster, model_id=request.model_id, loss=request.loss, progress=progress

@@ -167,13 +167,24 @@ def apply(
 
 
 def render_cluster_report(report: ClusterReport) -> None:
-    """Print the clusters found."""
+    """Print the clusters found and how lane-change windows fall across them."""
     sizes = ", ".join(str(s) for s in report.sizes[:30]) + (" ..." if len(report.sizes) > 30 else "")
-    console().print(
+    out = console()
+    out.print(
         f"clustering {safe(report.clustering_id)}: {report.n_clusters} clusters and {report.n_noise} "
         f"outliers among {report.n_windows} windows; sizes {sizes}",
         highlight=False,
     )
+    if report.n_with_lanes:
+        with_lc = [(i, n) for i, n in enumerate(report.lane_change_by_cluster) if n]
+        majority = [i for i, n in with_lc if 2 * n > report.sizes[i]]
+        out.print(
+            f"lane-change windows: {report.n_lane_change} of {report.n_with_lanes} with lane ids; "
+            f"{report.lane_change_noise} outliers, the rest in {len(with_lc)} clusters; "
+            f"{len(majority)} clusters are mostly lane changes, holding "
+            f"{sum(report.lane_change_by_cluster[i] for i in majority)}",
+            highlight=False,
+        )
 
 
 @app.command("cluster")
@@ -186,6 +197,7 @@ def cluster(
     min_samples: Annotated[
         int | None, typer.Option(help="HDBSCAN min_samples (0: = min_cluster_size).")
     ] = None,
+    selection: Annotated[str | None, typer.Option(help="HDBSCAN cluster selection: eom or leaf.")] = None,
     json_out: JsonOpt = False,
 ) -> None:
     """Cluster every embedded window of a model with HDBSCAN (noise kept as outliers)."""
@@ -194,7 +206,11 @@ def cluster(
     cfg = load_cfg(config)
     st = api.open_existing_store(store, cfg)
     request = api.ClusterRequest(
-        model_id=model, loss=loss, min_cluster_size=min_cluster_size, min_samples=min_samples
+        model_id=model,
+        loss=loss,
+        min_cluster_size=min_cluster_size,
+        min_samples=min_samples,
+        selection=selection,
     )
     with progress_bar(not json_out) as bar:
         report = api.cluster_windows(st, request, cfg, progress=bar)

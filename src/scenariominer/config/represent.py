@@ -117,12 +117,15 @@ class ClusterConfig:
     Attributes:
         min_cluster_size: smallest group HDBSCAN calls a cluster.
         min_samples: HDBSCAN's density smoothing; 0 means equal to ``min_cluster_size``.
+        selection: HDBSCAN's ``cluster_selection_method``: ``eom`` (excess of mass, the library's
+            default: fewer, larger clusters) or ``leaf`` (the finest clusters of the tree).
         tsne_perplexity: t-SNE perplexity (capped below the number of windows).
         seed: seed of the t-SNE layout.
     """
 
     min_cluster_size: int = 10
     min_samples: int = 0
+    selection: str = "eom"
     tsne_perplexity: float = 30.0
     seed: int = 0
 
@@ -131,6 +134,8 @@ class ClusterConfig:
             raise ValueError("represent.cluster: min_cluster_size must be at least 2")
         if self.min_samples < 0 or not self.tsne_perplexity > 0:
             raise ValueError("represent.cluster: min_samples >= 0 and tsne_perplexity > 0")
+        if self.selection not in ("eom", "leaf"):
+            raise ValueError(f"represent.cluster: selection must be eom or leaf, got {self.selection!r}")
 
 
 @dataclass(frozen=True)

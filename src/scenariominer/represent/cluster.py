@@ -39,6 +39,7 @@ __all__ = [
     "ClusteringRecord",
     "approximate_labels",
     "fit_clusters",
+    "lane_changes_by_cluster",
     "labelled_logs",
     "latest_clustering",
     "load_clusterer",
@@ -118,6 +119,7 @@ def fit_clusters(
     clusterer = hdbscan.HDBSCAN(
         min_cluster_size=config.min_cluster_size,
         min_samples=config.min_samples or None,
+        cluster_selection_method=config.selection,
         prediction_data=True,
     )
     clusterer.fit(np.asarray(z, dtype=np.float64))
@@ -126,6 +128,21 @@ def fit_clusters(
         np.asarray(clusterer.labels_, dtype=np.int64),
         np.asarray(clusterer.probabilities_, dtype=np.float64),
     )
+
+
+def lane_changes_by_cluster(
+    labels: NDArray[np.int64], lane_change: NDArray[np.float64]
+) -> tuple[NDArray[np.int64], int]:
+    """Lane-change windows per cluster (cluster 0 first) and among the noise.
+
+    Args:
+        labels: ``(W,)`` cluster labels, -1 noise.
+        lane_change: ``(W,)`` 1.0 lane change, 0.0 none, NaN unknown.
+    """
+    change = np.isfinite(lane_change) & (np.nan_to_num(lane_change) > 0.5)
+    n = int(labels.max(initial=-1)) + 1
+    per = np.bincount(labels[change & (labels >= 0)], minlength=n).astype(np.int64)
+    return per, int((change & (labels < 0)).sum())
 
 
 def approximate_labels(
@@ -143,7 +160,7 @@ def approximate_labels(
 
 def clustering_id_for(model_id: str, config: ClusterConfig) -> str:
     """Key of a clustering of ``model_id``'s embeddings with ``config``."""
-    text = f"{config.min_cluster_size}/{config.min_samples}"
+    text = f"{config.min_cluster_size}/{config.min_samples}/{config.selection}"
     return f"{model_id}|hdbscan-{hashlib.sha256(text.encode()).hexdigest()[:6]}"
 
 
@@ -156,6 +173,7 @@ def save_clustering(
         "model_id": model_id,
         "min_cluster_size": config.min_cluster_size,
         "min_samples": config.min_samples,
+        "selection": config.selection,
         "n_clusters": int(np.unique(labels[labels >= 0]).size),
         "n_noise": int((labels < 0).sum()),
         "n_windows": int(labels.size),

@@ -21,6 +21,7 @@ from scenariominer.represent.cluster import (
     approximate_labels,
     fit_clusters,
     labelled_logs,
+    lane_changes_by_cluster,
     latest_clustering,
     load_clusterer,
     load_labels,
@@ -105,6 +106,10 @@ class ClusterReport:
         n_clusters: clusters found.
         n_noise: windows labelled noise (outliers).
         sizes: windows per cluster, cluster 0 first.
+        n_with_lanes: windows whose chosen agent has lane ids (lane changes can be told).
+        lane_change_by_cluster: lane-change windows (the chosen agent's lane id changes) per
+            cluster, cluster 0 first.
+        lane_change_noise: lane-change windows labelled noise.
     """
 
     clustering_id: str
@@ -113,6 +118,14 @@ class ClusterReport:
     n_clusters: int
     n_noise: int
     sizes: tuple[int, ...]
+    n_with_lanes: int = 0
+    lane_change_by_cluster: tuple[int, ...] = ()
+    lane_change_noise: int = 0
+
+    @property
+    def n_lane_change(self) -> int:
+        """Lane-change windows among the clustered ones."""
+        return sum(self.lane_change_by_cluster) + self.lane_change_noise
 
 
 def current_window_logs(
@@ -247,13 +260,19 @@ def cluster_store(
         method = np.full(wids.shape, "fit", dtype=object).astype(str)
         save_labels(store, cid, lids, ClusterLabels(wids, labels, probs, method))
     sizes = np.bincount(labels[labels >= 0]) if (labels >= 0).any() else np.zeros(0, dtype=np.int64)
+    feats = window_features(load_windows(store, window_ids=wids.tolist()))
+    known = np.isfinite(feats.lane_change)
+    by_cluster, lc_noise = lane_changes_by_cluster(labels, feats.lane_change)
     return ClusterReport(
-        cid,
-        record.model_id,
-        int(labels.size),
-        int(sizes.size),
-        int((labels < 0).sum()),
-        tuple(int(s) for s in sizes),
+        clustering_id=cid,
+        model_id=record.model_id,
+        n_windows=int(labels.size),
+        n_clusters=int(sizes.size),
+        n_noise=int((labels < 0).sum()),
+        sizes=tuple(int(v) for v in sizes),
+        n_with_lanes=int(known.sum()),
+        lane_change_by_cluster=tuple(int(v) for v in by_cluster),
+        lane_change_noise=lc_noise,
     )
 
 
