@@ -126,6 +126,12 @@ def train(
 def render_apply_report(report: ApplyReport) -> None:
     """Print what was embedded and assigned."""
     out = console()
+    if report.n_logs_cut or report.failed_logs:
+        out.print(
+            f"cut windows of {report.n_logs_cut} new logs with the model's settings"
+            + (f"; {len(report.failed_logs)} could not be cut" if report.failed_logs else ""),
+            highlight=False,
+        )
     out.print(
         f"model {safe(report.model_id)}: embedded {report.n_windows_embedded} windows of "
         f"{report.n_logs_embedded} new or changed logs",

@@ -38,6 +38,7 @@ from scenariominer.represent.model_table import (
     save_embeddings,
     save_model,
 )
+from scenariominer.represent.pipeline import build_store_windows
 from scenariominer.represent.plots import tsne_projection, write_projection_plots
 from scenariominer.represent.vrae import TrainingSummary, TrajectoryEmbedder
 from scenariominer.represent.window_table import load_windows, log_window_records, window_config_hash
@@ -84,6 +85,8 @@ class ApplyReport:
         n_windows_assigned: windows given a cluster by approximate prediction in this run.
         n_assigned_noise: of those, how many fell outside every cluster (noise).
         skipped_logs: logs whose windows were cut with other settings than the model's.
+        n_logs_cut: logs without windows that were cut in this run (with the model's settings).
+        failed_logs: logs that could not be cut.
     """
 
     model_id: str
@@ -93,6 +96,8 @@ class ApplyReport:
     n_windows_assigned: int
     n_assigned_noise: int
     skipped_logs: tuple[str, ...]
+    n_logs_cut: int = 0
+    failed_logs: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -195,10 +200,18 @@ def apply_store_embedder(
     log_ids: Sequence[str] | None = None,
     progress: Progress | None = None,
 ) -> ApplyReport:
-    """Embed windows that have no embedding under the model yet, and assign them to its clusters."""
+    """Embed windows that have no embedding under the model yet, and assign them to its clusters.
+
+    Logs without any windows yet are cut first with the model's window settings, so a newly
+    ingested log needs this one call; logs whose windows were cut with other settings are skipped.
+    """
     progress = progress or NullProgress()
     record, embedder = load_model(store, model_id, loss)
     ids = list(log_ids) if log_ids is not None else store.log_ids()
+    uncut = [lid for lid in ids if lid not in log_window_records(store, ids)]
+    new_windows = (
+        build_store_windows(store, record.windows(), log_ids=uncut, progress=progress) if uncut else None
+    )
     recs = log_window_records(store, ids)
     usable = current_window_logs(store, record.window_config, ids)
     skipped = tuple(lid for lid in ids if lid in recs and recs[lid].config != record.window_config)
@@ -215,7 +228,17 @@ def apply_store_embedder(
             n_emb += len(windows)
             progress.advance(len(chunk))
     cid, n_assigned, n_noise = _assign_new(store, record.model_id, usable)
-    return ApplyReport(record.model_id, len(todo), n_emb, cid, n_assigned, n_noise, skipped)
+    return ApplyReport(
+        model_id=record.model_id,
+        n_logs_embedded=len(todo),
+        n_windows_embedded=n_emb,
+        clustering_id=cid,
+        n_windows_assigned=n_assigned,
+        n_assigned_noise=n_noise,
+        skipped_logs=skipped,
+        n_logs_cut=new_windows.n_built if new_windows else 0,
+        failed_logs=tuple(r.log_id for r in new_windows.failed) if new_windows else (),
+    )
 
 
 def _assign_new(store: ScenarioStore, model_id: str, log_ids: Sequence[str]) -> tuple[str, int, int]:
