@@ -26,6 +26,13 @@ embed apply         :func:`apply_embedder`                           :mod:`.repr
 embed cluster       :func:`cluster_windows`                          :mod:`.represent`
 embed plot          :func:`plot_embeddings`                          :mod:`.represent`
 similar             :func:`similar`                                  :mod:`.represent`
+cbr add             :func:`cbr_add`                                  :mod:`.cbr`
+cbr list            :func:`cbr_list`                                 :mod:`.cbr`
+cbr show            :func:`cbr_show`                                 :mod:`.cbr`
+cbr remove          :func:`cbr_remove`                               :mod:`.cbr`
+cbr build           :func:`cbr_build`                                :mod:`.cbr`
+recommend           :func:`recommend`                                :mod:`.cbr`
+eval cbr            :func:`evaluate_cbr`                             :mod:`.cbr`
 ==================  ===============================================  ============================
 
 Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
@@ -80,6 +87,19 @@ _EXPORTS: dict[str, str] = {
     "cluster_windows": "represent",
     "plot_embeddings": "represent",
     "similar": "represent",
+    "CbrAddRequest": "cbr",
+    "CbrBuildRequest": "cbr",
+    "CbrEvalRequest": "cbr",
+    "RecommendRequest": "cbr",
+    "RecommendResult": "cbr",
+    "cbr_add": "cbr",
+    "cbr_build": "cbr",
+    "cbr_list": "cbr",
+    "cbr_remove": "cbr",
+    "cbr_show": "cbr",
+    "evaluate_cbr": "cbr",
+    "open_case_base": "cbr",
+    "recommend": "cbr",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -13,7 +13,7 @@ from typing import Annotated
 
 import typer
 
-from scenariominer.cli import braking, corpus, evaluation, mining, models, represent, storecmd
+from scenariominer.cli import braking, cbr, corpus, evaluation, mining, models, represent, storecmd
 from scenariominer.cli._common import SafeGroup, settings
 
 __all__ = ["app", "main"]
@@ -43,6 +43,7 @@ corpus.register(app)
 braking.register(app)
 mining.register(app)
 represent.register(app)
+cbr.register(app)
 app.add_typer(evaluation.app, name="eval", help="Evaluate braking explanations and mining against labels.")
 app.add_typer(models.app, name="llm", help="Language-model and embedding backends.")
 app.add_typer(storecmd.app, name="store", help="Check and clean the scenario store.")

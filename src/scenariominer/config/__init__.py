@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from scenariominer import errors as _errors
+from scenariominer.config.cbr import CbrConfig
 from scenariominer.config.data import IngestConfig, PreprocessConfig, StoreConfig
 from scenariominer.config.explain import ExplainConfig
 from scenariominer.config.llm import EmbeddingConfig, LLMConfig
@@ -31,6 +32,7 @@ from scenariominer.config.represent import RepresentConfig
 from scenariominer.config.tags import TagConfig
 
 __all__ = [
+    "CbrConfig",
     "Config",
     "ConfigError",
     "EmbeddingConfig",
@@ -65,6 +67,7 @@ class Config:
     explain: ExplainConfig = field(default_factory=ExplainConfig)
     mining: MiningConfig = field(default_factory=MiningConfig)
     represent: RepresentConfig = field(default_factory=RepresentConfig)
+    cbr: CbrConfig = field(default_factory=CbrConfig)
 
 
 T = TypeVar("T")

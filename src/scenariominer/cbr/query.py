@@ -1,0 +1,65 @@
+"""From our own logs: an analysed braking event becomes a CBR query and a rollout scene.
+
+Caption: the event's description (the LLM's rephrased description when it has one, else the
+rule-based tag description), prefixed with the measured facts. Risk type: a pedestrian or cyclist
+guest is ``pedestrian``; otherwise the event's category through ``cbr.category_map``
+(``lead_brake``/``approach_stop`` -> vehicle ahead, ``cut_in`` -> merging vehicle,
+``obj_crossing`` -> adjacent vehicle, ``left_oppo`` -> opposite turning vehicle, ``right_ped`` ->
+pedestrian), and ``cbr.default_risk_type`` for anything else. The conflict time is the event's
+closest ego-guest approach.
+"""
+
+from __future__ import annotations
+
+from scenariominer.cbr.recommend import Query
+from scenariominer.cbr.rollout import RolloutScene, scene_from_log
+from scenariominer.config.cbr import CbrConfig
+from scenariominer.explain.records import EventRecord, records_from_table
+from scenariominer.explain.search import load_events
+from scenariominer.store import ScenarioStore
+
+__all__ = ["VULNERABLE_CATEGORIES", "find_event", "query_from_event", "risk_type_of", "scene_of_event"]
+
+#: Guest categories that make an event a pedestrian conflict whatever its scenario category.
+VULNERABLE_CATEGORIES = frozenset({"PEDESTRIAN", "BICYCLIST", "BICYCLE", "WHEELCHAIR", "WHEELED_RIDER"})
+
+
+def risk_type_of(record: EventRecord, cfg: CbrConfig) -> str:
+    """The risk type of an analysed event (see the module docstring)."""
+    if record.guest_category.upper() in VULNERABLE_CATEGORIES:
+        return "pedestrian"
+    return cfg.category_map.get(record.category, cfg.default_risk_type)
+
+
+def query_from_event(record: EventRecord, cfg: CbrConfig) -> Query:
+    """The CBR query of an analysed event."""
+    text = record.llm_description or record.tag_description
+    facts = record.facts.strip()
+    caption = " ".join(f"{facts} {text}".split()) if facts else " ".join(text.split())
+    return Query(record.event_id, caption, risk_type_of(record, cfg))
+
+
+def find_event(store: ScenarioStore, log_id: str, event_id: str | None) -> EventRecord:
+    """An analysed event of a log (by id, ``<guest>:<start_ns>`` or guest id; default the hardest).
+
+    Raises:
+        ExplainError: the store holds no analysed events, or the log has no such event.
+    """
+    from scenariominer.explain.show import _find_event
+
+    return _find_event(records_from_table(load_events(store, [log_id])), log_id, event_id)
+
+
+def scene_of_event(store: ScenarioStore, record: EventRecord, cfg: CbrConfig) -> RolloutScene:
+    """The rollout scene of an event: from ``lead_s`` before its closest approach on.
+
+    Every annotated object counts (parked cars, bollards and cones too: steering into one is a
+    collision).
+    """
+    log = store.load_log(record.log_id)
+    return scene_from_log(
+        log,
+        record.closest_ns,
+        lead_s=cfg.rollout.lead_s,
+        horizon_s=cfg.rollout.horizon_s,
+    )

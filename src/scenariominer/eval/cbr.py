@@ -1,0 +1,358 @@
+"""Evaluation of CBR recommendations on the hold-out split (paper Tables 3-6 layout).
+
+For each prompt configuration (risk-aware or not x zero-shot, random k-shot or similarity k-shot)
+every hold-out case is answered once; the answer is stored in the corpus table ``<table>_eval``
+under (model, prompt version, case-base version, configuration, case), so an interrupted grid
+continues where it stopped and a finished one is only re-scored. Scores per configuration:
+
+* micro-accuracy of the manoeuvre, overall and per risk type (invalid answers count as wrong);
+* BLEU-4 (sacrebleu), ROUGE-L F (rouge-score), METEOR and CIDEr (pycocoevalcap; METEOR runs its
+  Java jar, so it is reported unavailable, with the reason, when Java or the package is missing)
+  of the event context and the justification against the hold-out references (all x100);
+* rollout success: the share of answers whose manoeuvre avoids the conflict on the case's scene;
+* seconds per recommendation (fresh model calls only).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections import defaultdict
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from scenariominer.cbr.build import HoldoutCase
+from scenariominer.cbr.cases import CaseBase
+from scenariominer.cbr.prompts import PROMPT_VERSION
+from scenariominer.cbr.recommend import Query, RecommendSettings, recommend
+from scenariominer.cbr.vocab import CbrError
+from scenariominer.llm.client import ChatClient
+from scenariominer.llm.embeddings import Embedder
+from scenariominer.llm.errors import LLMError
+from scenariominer.progress import NullProgress, Progress
+from scenariominer.store.corpus import CorpusTable
+
+__all__ = ["CbrEvaluation", "ConfigResult", "default_grid", "evaluate_cbr_grid", "text_metrics"]
+
+EVAL_SCHEMA_VERSION = 1
+TEXT_FIELDS = ("event_context", "justification")
+
+
+def default_grid(
+    ks: Sequence[int] = (0, 1, 3, 5), seed: int = 0, max_field_chars: int = 120, max_tokens: int = 256
+) -> list[RecommendSettings]:
+    """Every configuration, most informative first (so a cut-short run has the key comparisons).
+
+    Order: risk-aware zero-shot, similarity k=3, random k=3, risk-unaware zero-shot, then the
+    remaining risk-aware k, then the remaining risk-unaware ones.
+    """
+
+    def s(aware: bool, sel: str, k: int) -> RecommendSettings:
+        return RecommendSettings(k, sel, aware, seed, max_field_chars, max_tokens)
+
+    shots = [k for k in ks if k > 0]
+    mid = 3 if 3 in shots else (shots[0] if shots else 0)
+    first = [s(True, "similarity", 0)]
+    if shots:
+        first += [s(True, "similarity", mid), s(True, "random", mid)]
+    first.append(s(False, "similarity", 0))
+    rest = [
+        s(aware, sel, k)
+        for aware in (True, False)
+        for sel in ("similarity", "random")
+        for k in shots
+        if not (aware and k == mid)
+    ]
+    out: list[RecommendSettings] = []
+    for x in first + rest:
+        if x.label not in {y.label for y in out} and (0 in ks or x.k > 0):
+            out.append(x)
+    return out
+
+
+@dataclass(frozen=True)
+class ConfigResult:
+    """Scores of one prompt configuration.
+
+    Attributes:
+        label: e.g. ``aware/similarity/k3``.
+        n_cases: hold-out cases; ``n_answered``: answered so far (cached rows).
+        accuracy: micro-accuracy over the answered cases (NaN if none).
+        per_type: accuracy per risk type.
+        n_invalid: answers that failed the schema or the backend.
+        rollout_success: share of answered cases whose manoeuvre avoids the conflict.
+        seconds_per_call: mean seconds of fresh model calls (NaN if all were cached).
+        text: field -> metric -> score (x100); missing metrics are absent.
+    """
+
+    label: str
+    n_cases: int
+    n_answered: int
+    accuracy: float
+    per_type: dict[str, float]
+    n_invalid: int
+    rollout_success: float
+    seconds_per_call: float
+    text: dict[str, dict[str, float]] = field(default_factory=dict)
+
+    @property
+    def complete(self) -> bool:
+        """Every hold-out case is answered."""
+        return self.n_answered == self.n_cases
+
+
+@dataclass(frozen=True)
+class CbrEvaluation:
+    """The grid's results and what it ran on."""
+
+    configs: tuple[ConfigResult, ...]
+    risk_types: tuple[str, ...]
+    n_holdout: int
+    n_case_base: int
+    model: str
+    metric_notes: tuple[str, ...]
+    fresh_calls: int
+    seconds: float
+
+    def to_json_dict(self) -> dict[str, Any]:
+        """JSON-ready form (NaN as ``None``)."""
+
+        def clean(x: Any) -> Any:
+            if isinstance(x, float):
+                return None if math.isnan(x) else x
+            if isinstance(x, dict):
+                return {k: clean(v) for k, v in x.items()}
+            return x
+
+        return {
+            "model": self.model,
+            "n_holdout": self.n_holdout,
+            "n_case_base": self.n_case_base,
+            "fresh_calls": self.fresh_calls,
+            "seconds": self.seconds,
+            "metric_notes": list(self.metric_notes),
+            "configs": [clean(dict(c.__dict__, complete=c.complete)) for c in self.configs],
+        }
+
+
+def _mean(xs: Sequence[float]) -> float:
+    return sum(xs) / len(xs) if xs else math.nan
+
+
+def _clean_text(s: str) -> str:
+    return " ".join(s.replace("|", " ").split()).lower() or "-"
+
+
+def text_metrics(hyps: Sequence[str], refs: Sequence[str]) -> tuple[dict[str, float], list[str]]:
+    """BLEU-4, ROUGE-L (F), METEOR and CIDEr (x100) of ``hyps`` against one reference each.
+
+    Returns:
+        ``(scores, notes)``: a metric whose package or runtime is missing is left out and named in
+        ``notes`` with the reason.
+    """
+    notes: list[str] = []
+    scores: dict[str, float] = {}
+    if not hyps:
+        return scores, notes
+    try:
+        import sacrebleu
+
+        scores["BLEU4"] = float(sacrebleu.corpus_bleu(list(hyps), [list(refs)]).score)
+    except ImportError:
+        notes.append("BLEU4 unavailable: sacrebleu is not installed (pip install 'scenariominer[cbr]')")
+    try:
+        from rouge_score import rouge_scorer
+
+        scorer = rouge_scorer.RougeScorer(["rougeL"], use_stemmer=True)
+        scores["ROUGE_L"] = 100.0 * _mean(
+            [scorer.score(r, h)["rougeL"].fmeasure for h, r in zip(hyps, refs, strict=True)]
+        )
+    except ImportError:
+        notes.append("ROUGE_L unavailable: rouge-score is not installed (pip install 'scenariominer[cbr]')")
+    gts = {str(i): [_clean_text(r)] for i, r in enumerate(refs)}
+    res = {str(i): [_clean_text(h)] for i, h in enumerate(hyps)}
+    try:
+        from pycocoevalcap.cider.cider import Cider
+
+        scores["CIDEr"] = 100.0 * float(Cider().compute_score(gts, res)[0])
+    except ImportError:
+        notes.append("CIDEr unavailable: pycocoevalcap is not installed (pip install 'scenariominer[cbr]')")
+    try:
+        from pycocoevalcap.meteor.meteor import Meteor
+
+        meteor = Meteor()
+        try:
+            scores["METEOR"] = 100.0 * float(meteor.compute_score(gts, res)[0])
+        finally:
+            _close_meteor(meteor)
+    except ImportError:
+        notes.append("METEOR unavailable: pycocoevalcap is not installed (pip install 'scenariominer[cbr]')")
+    except (OSError, ValueError, BrokenPipeError) as exc:
+        notes.append(f"METEOR unavailable: pycocoevalcap's METEOR needs Java to run its jar ({exc})")
+    return scores, notes
+
+
+def _close_meteor(meteor: Any) -> None:
+    proc = getattr(meteor, "meteor_p", None)
+    if proc is None:
+        return
+    with meteor.lock:
+        if proc.stdin:
+            proc.stdin.close()
+        proc.kill()
+        proc.wait()
+    if proc.stdout:
+        proc.stdout.close()
+    if proc.stderr:
+        proc.stderr.close()
+    meteor.meteor_p = None
+
+
+def _key(model: str, base_version: int, label: str, case_id: str) -> str:
+    return f"{model}|{PROMPT_VERSION}|cb{base_version}|{label}|{case_id}"
+
+
+def _answer_row(
+    hc: HoldoutCase, base: CaseBase, client: ChatClient, embedder: Embedder, settings: RecommendSettings
+) -> dict[str, Any]:
+    q = Query(hc.case.case_id, hc.case.caption, hc.case.risk_type)
+    try:
+        rec = recommend(q, base, client, embedder, settings)
+    except (CbrError, LLMError) as exc:
+        return {
+            "manoeuvre": "",
+            "answer": {},
+            "error": str(exc)[:500],
+            "latency_s": math.nan,
+            "cached": False,
+        }
+    return {
+        "manoeuvre": rec.manoeuvre,
+        "answer": rec.answer,
+        "error": "",
+        "latency_s": rec.latency_s,
+        "cached": rec.cached,
+        "attempts": rec.attempts,
+        "retrieved": [r.case.case_id for r in rec.retrieved],
+    }
+
+
+def _score(
+    label: str, holdout: Sequence[HoldoutCase], rows: dict[str, dict[str, Any]], with_text: bool
+) -> tuple[ConfigResult, list[str]]:
+    per_type: dict[str, list[bool]] = defaultdict(list)
+    correct: list[bool] = []
+    success: list[bool] = []
+    latencies: list[float] = []
+    invalid = 0
+    hyps: dict[str, list[str]] = {f: [] for f in TEXT_FIELDS}
+    refs: dict[str, list[str]] = {f: [] for f in TEXT_FIELDS}
+    for hc in holdout:
+        row = rows.get(hc.case.case_id)
+        if row is None:
+            continue
+        ok = row["manoeuvre"] == hc.case.manoeuvre
+        correct.append(ok)
+        per_type[hc.case.risk_type].append(ok)
+        if row["error"]:
+            invalid += 1
+            success.append(False)
+        else:
+            success.append(bool(hc.avoided.get(row["manoeuvre"], False)))
+            for f in TEXT_FIELDS:
+                hyps[f].append(str(row["answer"].get(f, "")))
+                refs[f].append(str(getattr(hc.case, f)))
+        lat = row.get("latency_s")
+        if not row.get("cached") and isinstance(lat, float) and math.isfinite(lat):
+            latencies.append(lat)
+    text: dict[str, dict[str, float]] = {}
+    notes: list[str] = []
+    if with_text:
+        for f in TEXT_FIELDS:
+            text[f], n = text_metrics(hyps[f], refs[f])
+            notes += n
+    result = ConfigResult(
+        label=label,
+        n_cases=len(holdout),
+        n_answered=len(correct),
+        accuracy=_mean([float(c) for c in correct]),
+        per_type={rt: _mean([float(c) for c in v]) for rt, v in sorted(per_type.items())},
+        n_invalid=invalid,
+        rollout_success=_mean([float(s) for s in success]),
+        seconds_per_call=_mean(latencies),
+        text=text,
+    )
+    return result, notes
+
+
+def evaluate_cbr_grid(
+    base: CaseBase,
+    holdout: Sequence[HoldoutCase],
+    results: CorpusTable,
+    client: ChatClient,
+    embedder: Embedder,
+    grid: Sequence[RecommendSettings],
+    *,
+    time_budget_s: float | None = None,
+    with_text: bool = True,
+    progress: Progress | None = None,
+    clock: Callable[[], float] = time.monotonic,
+) -> CbrEvaluation:
+    """Answer every (configuration, hold-out case) not yet stored, then score what is stored.
+
+    Args:
+        base: the case base (never holds a hold-out case).
+        holdout: the hold-out cases with their rollout outcomes.
+        results: corpus table where answers are kept (the resume point).
+        client: the chat model.
+        embedder: the caption embedder.
+        grid: configurations, in the order to run them.
+        time_budget_s: stop asking the model after this many seconds (what is stored is scored).
+        with_text: compute the text metrics.
+        progress: progress sink.
+        clock: time source (tests).
+
+    Raises:
+        CbrError: the hold-out set is empty, or one of its cases is in the case base.
+    """
+    if not holdout:
+        raise CbrError("the hold-out split is empty; run `scenariominer cbr build` first")
+    leaked = {hc.case.case_id for hc in holdout} & set(base.table.keys())
+    if leaked:
+        raise CbrError(f"hold-out case(s) {sorted(leaked)[:3]} are in the case base; rebuild the split")
+    start = clock()
+    model = client.backend.model
+    version = base.table.info().version
+    prog = progress or NullProgress()
+    fresh = 0
+    prog.start("cbr evaluation", len(grid) * len(holdout))
+    stopped = False
+    for settings in grid:
+        for hc in holdout:
+            key = _key(model, version, settings.label, hc.case.case_id)
+            if not stopped and time_budget_s is not None and clock() - start > time_budget_s:
+                stopped = True
+            if stopped or results.get(key) is not None:
+                prog.advance(1)
+                continue
+            row = _answer_row(hc, base, client, embedder, settings)
+            results.upsert({key: row})
+            fresh += 0 if row.get("cached") else 1
+            prog.advance(1, f"{settings.label} {hc.case.case_id}")
+    prog.finish()
+    configs = []
+    all_notes: list[str] = []
+    for settings in grid:
+        prefix = _key(model, version, settings.label, "")
+        rows = {
+            r.key[len(prefix) :]: dict(r.data)
+            for r in results.rows([prefix + hc.case.case_id for hc in holdout])
+        }
+        result, notes = _score(settings.label, holdout, rows, with_text)
+        configs.append(result)
+        all_notes += [n for n in notes if n not in all_notes]
+    risk_types = tuple(sorted({hc.case.risk_type for hc in holdout}))
+    return CbrEvaluation(
+        tuple(configs), risk_types, len(holdout), len(base), model, tuple(all_notes), fresh, clock() - start
+    )

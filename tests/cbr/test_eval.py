@@ -1,0 +1,119 @@
+"""The evaluation grid: scoring, per-risk-type accuracy, rollout success, resuming, no leaks."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from scenariominer.cbr.build import HoldoutCase
+from scenariominer.cbr.cases import Case
+from scenariominer.cbr.recommend import RecommendSettings
+from scenariominer.cbr.vocab import CbrError
+from scenariominer.eval.cbr import default_grid, evaluate_cbr_grid
+from scenariominer.llm.client import ChatClient
+from scenariominer.store import ScenarioStore
+from scenariominer.testing import ScriptedBackend
+
+from .helpers import EMBEDDER, answer, case_base
+
+
+def _holdout() -> list[HoldoutCase]:
+    def hc(cid: str, risk: str, truth: str, avoided: dict[str, bool]) -> HoldoutCase:
+        case = Case(
+            cid,
+            risk,
+            f"caption of {cid}",
+            event_context="the ego nears a stopped car",
+            manoeuvre=truth,
+            justification="braking stops the car before the obstacle",
+        )
+        return HoldoutCase(case, avoided, {k: 1.0 for k in avoided})
+
+    return [
+        hc(
+            "q1",
+            "vehicle_ahead",
+            "emergency_braking",
+            {"emergency_braking": True, "evasive_steering_left": True},
+        ),
+        hc(
+            "q2",
+            "vehicle_ahead",
+            "evasive_steering_left",
+            {"emergency_braking": False, "evasive_steering_left": True},
+        ),
+        hc("q3", "pedestrian", "emergency_braking", {"emergency_braking": True}),
+    ]
+
+
+def test_grid_scores_accuracy_per_type_and_rollout_success(tmp_path: Path) -> None:
+    base = case_base(tmp_path)
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    backend = ScriptedBackend([answer("emergency_braking")] * 3)
+    grid = [RecommendSettings(k=0)]
+    ev = evaluate_cbr_grid(base, _holdout(), results, ChatClient(backend), EMBEDDER, grid, with_text=False)
+    (c,) = ev.configs
+    assert c.n_answered == 3 and c.complete
+    assert c.accuracy == pytest.approx(2 / 3)
+    assert c.per_type == {"pedestrian": 1.0, "vehicle_ahead": 0.5}
+    assert c.rollout_success == pytest.approx(2 / 3)  # braking does not avoid q2's conflict
+    assert ev.fresh_calls == 3
+    # Resumed: every answer is stored, so no model call is made (the script is empty).
+    again = evaluate_cbr_grid(
+        base, _holdout(), results, ChatClient(ScriptedBackend([])), EMBEDDER, grid, with_text=False
+    )
+    assert again.configs[0].accuracy == c.accuracy and again.fresh_calls == 0
+
+
+def test_invalid_answer_counts_as_wrong_and_the_grid_goes_on(tmp_path: Path) -> None:
+    base = case_base(tmp_path)
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    replies = ["garbage", "garbage", answer("evasive_steering_left"), answer("emergency_braking")]
+    ev = evaluate_cbr_grid(
+        base,
+        _holdout(),
+        results,
+        ChatClient(ScriptedBackend(replies)),
+        EMBEDDER,
+        [RecommendSettings(k=0)],
+        with_text=False,
+    )
+    c = ev.configs[0]
+    assert c.n_invalid == 1 and c.n_answered == 3
+    assert c.accuracy == pytest.approx(2 / 3)
+
+
+def test_time_budget_stops_and_leaves_the_rest_for_later(tmp_path: Path) -> None:
+    base = case_base(tmp_path)
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    ticks = iter([0.0, 0.0, 0.0, 100.0, 100.0, 100.0, 100.0, 100.0])
+    ev = evaluate_cbr_grid(
+        base,
+        _holdout(),
+        results,
+        ChatClient(ScriptedBackend([answer()] * 3)),
+        EMBEDDER,
+        [RecommendSettings(k=0)],
+        time_budget_s=10.0,
+        with_text=False,
+        clock=lambda: next(ticks),
+    )
+    c = ev.configs[0]
+    assert 0 < c.n_answered < 3 and not c.complete
+
+
+def test_holdout_case_in_the_case_base_is_refused(tmp_path: Path) -> None:
+    base = case_base(tmp_path)
+    leaked = [HoldoutCase(base.get("a1"), {}, {})]
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    with pytest.raises(CbrError, match="are in the case base"):
+        evaluate_cbr_grid(
+            base, leaked, results, ChatClient(ScriptedBackend([])), EMBEDDER, [RecommendSettings()]
+        )
+
+
+def test_default_grid_is_the_papers_comparison() -> None:
+    labels = [g.label for g in default_grid()]
+    assert len(labels) == 14 and len(set(labels)) == 14
+    assert labels[:4] == ["aware/k0", "aware/similarity/k3", "aware/random/k3", "unaware/k0"]
