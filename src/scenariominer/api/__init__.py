@@ -26,6 +26,8 @@ embed apply         :func:`apply_embedder`                           :mod:`.repr
 embed cluster       :func:`cluster_windows`                          :mod:`.represent`
 embed plot          :func:`plot_embeddings`                          :mod:`.represent`
 similar             :func:`similar`                                  :mod:`.represent`
+browse logs         :func:`list_logs`, :func:`log_events`            :mod:`.browse`
+browse scene        :func:`scene` (:class:`SceneRequest`)            :mod:`.browse`
 cbr add             :func:`cbr_add`                                  :mod:`.cbr`
 cbr list            :func:`cbr_list`                                 :mod:`.cbr`
 cbr show            :func:`cbr_show`                                 :mod:`.cbr`
@@ -87,6 +89,12 @@ _EXPORTS: dict[str, str] = {
     "cluster_windows": "represent",
     "plot_embeddings": "represent",
     "similar": "represent",
+    "LogEntry": "browse",
+    "Scene": "browse",
+    "SceneRequest": "browse",
+    "list_logs": "browse",
+    "log_events": "browse",
+    "scene": "browse",
     "CbrAddRequest": "cbr",
     "CbrBuildRequest": "cbr",
     "CbrEvalRequest": "cbr",
