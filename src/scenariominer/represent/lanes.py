@@ -10,12 +10,13 @@ longer on disk, have no lanes (``None``); windows then carry -1.
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
-from scenariominer.data.adapters.highd import HighDFiles, HighDRecording, read_highd_recording
+from scenariominer.data.adapters.highd import HighDFiles, read_highd_recording
 from scenariominer.data.log import Log, LogFormatError
 
 __all__ = ["log_lane_ids"]
@@ -37,30 +38,46 @@ def log_lane_ids(log: Log) -> IntArray | None:
     return None
 
 
+@dataclass(frozen=True)
+class _LaneLookup:
+    """A highD recording's ``laneId`` per (vehicle id, frame), sorted for binary search."""
+
+    frame_rate_hz: float
+    span: int
+    sorted_codes: IntArray
+    sorted_lanes: IntArray
+
+
 @functools.lru_cache(maxsize=4)
-def _recording(path: str, mtime_ns: int) -> HighDRecording | None:
-    """The highD recording of a tracks file (cached: all windows of a recording share it)."""
+def _recording(path: str, mtime_ns: int) -> _LaneLookup | None:
+    """The lane look-up of a tracks file (cached: all windows of a recording share it)."""
     files = HighDFiles.from_path(Path(path))
-    return None if files is None else read_highd_recording(files)
+    if files is None:
+        return None
+    rec = read_highd_recording(files)
+    if bool(np.all(rec.lane_id < 0)):
+        return None
+    span = int(rec.frame.max()) + 2
+    codes = rec.vehicle_ids[rec.row_vehicle] * span + rec.frame
+    order = np.argsort(codes, kind="stable")
+    return _LaneLookup(rec.meta.frame_rate_hz, span, codes[order], rec.lane_id[order])
 
 
-def _highd_lanes(log: Log, rec: HighDRecording | None) -> IntArray | None:
+def _highd_lanes(log: Log, lookup: _LaneLookup | None) -> IntArray | None:
     """Look each (vehicle id, frame) of the log up among the recording's rows."""
-    if rec is None or bool(np.all(rec.lane_id < 0)):
+    if lookup is None:
         return None
     try:
         vids = log.track_ids.astype(np.int64)
     except ValueError:
         return None
-    frames = np.round(log.timestamps_ns.astype(np.float64) * 1e-9 * rec.meta.frame_rate_hz).astype(np.int64)
-    span = int(max(rec.frame.max(), frames.max())) + 1
-    row_codes = rec.vehicle_ids[rec.row_vehicle] * span + rec.frame
-    order = np.argsort(row_codes, kind="stable")
-    sorted_codes = row_codes[order]
-    query = vids[:, None] * span + frames[None, :]
-    pos = np.clip(np.searchsorted(sorted_codes, query), 0, sorted_codes.size - 1)
-    hit = (sorted_codes[pos] == query) & log.valid
-    return np.where(hit, rec.lane_id[order[pos]], -1).astype(np.int64)
+    frames = np.round(log.timestamps_ns.astype(np.float64) * 1e-9 * lookup.frame_rate_hz).astype(np.int64)
+    if frames.size == 0 or frames.max() >= lookup.span or frames.min() < 0:
+        return None
+    query = vids[:, None] * lookup.span + frames[None, :]
+    pos = np.clip(np.searchsorted(lookup.sorted_codes, query), 0, lookup.sorted_codes.size - 1)
+    hit = (lookup.sorted_codes[pos] == query) & log.valid
+    return np.where(hit, lookup.sorted_lanes[pos], -1).astype(np.int64)
 
 
 def _map_lanes(log: Log) -> IntArray | None:

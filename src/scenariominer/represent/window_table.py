@@ -37,6 +37,7 @@ __all__ = [
     "load_windows",
     "log_window_records",
     "save_log_windows",
+    "save_logs_windows",
     "window_config_from",
     "window_config_hash",
 ]
@@ -92,40 +93,55 @@ def save_log_windows(
     store: ScenarioStore, log_id: str, windows: WindowSet, config: WindowConfig, source_hash: str
 ) -> None:
     """Replace the windows of ``log_id`` by ``windows`` (cut with ``config``; all from that log)."""
+    save_logs_windows(store, {log_id: (windows, source_hash)}, config)
+
+
+def save_logs_windows(
+    store: ScenarioStore, by_log: Mapping[str, tuple[WindowSet, str]], config: WindowConfig
+) -> None:
+    """Replace the windows of several logs at once: ``log id -> (its windows, its source hash)``.
+
+    Three writes in all (windows, stale windows, per-log records), whatever the number of logs.
+
+    Raises:
+        ValueError: a log's windows include windows of another log.
+    """
     config_hash = window_config_hash(config)
-    if len(windows) and set(windows.log_ids.tolist()) != {log_id}:
-        raise ValueError(f"save_log_windows({log_id!r}) got windows of other logs")
-    table = store.corpus(WINDOWS_TABLE, WINDOWS_SCHEMA)
     rows: dict[str, dict[str, object]] = {}
     blobs: dict[str, bytes] = {}
-    for i, wid in enumerate(windows.window_ids.tolist()):
-        rows[wid] = {
-            "log_id": log_id,
-            "agent_id": str(windows.agent_ids[i]),
-            "start_ns": int(windows.start_ns[i]),
-            "start_s": float(windows.start_s[i]),
-            "length_s": float(windows.length_s[i]),
-            "track_ids": windows.track_ids[i].tolist(),
-            "categories": windows.categories[i].tolist(),
+    records: dict[str, dict[str, object]] = {}
+    for log_id, (windows, source_hash) in by_log.items():
+        if len(windows) and set(windows.log_ids.tolist()) != {log_id}:
+            raise ValueError(f"windows given for log {log_id!r} include windows of other logs")
+        ids = windows.window_ids.tolist()
+        for i, wid in enumerate(ids):
+            rows[wid] = {
+                "log_id": log_id,
+                "agent_id": str(windows.agent_ids[i]),
+                "start_ns": int(windows.start_ns[i]),
+                "start_s": float(windows.start_s[i]),
+                "length_s": float(windows.length_s[i]),
+                "track_ids": windows.track_ids[i].tolist(),
+                "categories": windows.categories[i].tolist(),
+                "config": config_hash,
+            }
+            blobs[wid] = _pack(windows, i)
+        records[log_id] = {
             "config": config_hash,
+            "settings": asdict(config),
+            "source_hash": source_hash,
+            "window_ids": ids,
         }
-        blobs[wid] = _pack(windows, i)
-    old = log_window_records(store, [log_id])
+    if not records:
+        return
+    old = log_window_records(store, list(records))
+    table = store.corpus(WINDOWS_TABLE, WINDOWS_SCHEMA)
     if rows:
         table.upsert(rows, blobs)
-    stale = set(old[log_id].window_ids) - set(rows) if log_id in old else set()
+    stale = {w for rec in old.values() for w in rec.window_ids} - set(rows)
     if stale:
         table.delete(sorted(stale))
-    store.corpus(WINDOW_LOGS_TABLE, WINDOWS_SCHEMA).upsert(
-        {
-            log_id: {
-                "config": config_hash,
-                "settings": asdict(config),
-                "source_hash": source_hash,
-                "window_ids": list(rows),
-            }
-        }
-    )
+    store.corpus(WINDOW_LOGS_TABLE, WINDOWS_SCHEMA).upsert(records)
 
 
 def log_window_records(
