@@ -5,7 +5,7 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
-EXTRAS ?= llm,embed,av2eval,mine,ann,sim,represent,cbr,dev
+EXTRAS ?= llm,embed,av2eval,mine,ann,sim,represent,cbr,server,dev
 # llama.cpp is built for a portable AVX2 CPU: a native build enables AMX tiles (segfault in decode on
 # some of these machines) and AVX-512 (SIGILL on others).
 LLAMA_CMAKE_ARGS := -DGGML_NATIVE=OFF -DGGML_AVX2=ON -DGGML_FMA=ON -DGGML_F16C=ON -DGGML_AVX512=OFF -DGGML_AMX_INT8=OFF -DGGML_AMX_TILE=OFF
@@ -17,7 +17,7 @@ WHEELHOUSE ?= $(HOME)/.cache/scenariominer/wheels
 LLAMA_WHEEL_STAMP := $(WHEELHOUSE)/.llama-cpp-python-$(LLAMA_VERSION)
 DEMO_OUT ?= demo-out
 
-.PHONY: install demo test lint typecheck unit bench clean
+.PHONY: install browser demo test lint typecheck unit bench clean
 
 install: $(STAMP)
 
@@ -48,8 +48,17 @@ lint: install
 typecheck: install
 	$(VENV)/bin/mypy
 
+# The UI test (tests/server/test_browser.py) drives the distribution's Chromium and chromedriver:
+# installed with apt-get when missing and possible (CI runs as root); otherwise that test is skipped.
+browser:
+	@if command -v chromium >/dev/null 2>&1 && command -v chromedriver >/dev/null 2>&1; then :; \
+	elif command -v apt-get >/dev/null 2>&1 && [ "$$(id -u)" = 0 ]; then \
+		(apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver \
+			>/dev/null) || echo "could not install chromium: the browser test will be skipped"; \
+	else echo "no chromium/chromedriver and no apt-get as root: the browser test will be skipped"; fi
+
 # pytest exits 5 when it collected no tests: that is a failure here, said out loud.
-unit: install
+unit: install browser
 	$(PY) -m pytest; rc=$$?; \
 	if [ $$rc -eq 5 ]; then echo "pytest collected no tests (exit 5): failing" >&2; exit 1; fi; exit $$rc
 
