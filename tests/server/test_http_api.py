@@ -212,3 +212,23 @@ def test_openapi_covers_the_use_cases(client: httpx.Client) -> None:
     assert functions <= set(USE_CASE_ROUTES) | set(NOT_SERVED), (
         functions - set(USE_CASE_ROUTES) - set(NOT_SERVED)
     )
+
+
+def test_case_base_add_list_show_remove(client: httpx.Client) -> None:
+    hit = client.get("/api/search", params={"k": 1}).json()[0]
+    body = {"log_id": hit["log_id"], "event_id": hit["event_id"], "manoeuvre": "emergency_braking"}
+    added = client.post("/api/cbr/cases", json=body | {"justification": "<b>brake</b>"}).json()
+    assert len(added["added"]) == 1, added
+    case_id = added["added"][0]
+    listed = client.get("/api/cbr/cases").json()
+    assert case_id in {c["case_id"] for c in listed}
+    case = client.get(f"/api/cbr/cases/{case_id}").json()
+    assert case["event_id"] == hit["event_id"] and case["manoeuvre"] == "emergency_braking"
+    assert case["justification"] == "<b>brake</b>"
+    bad = client.post("/api/cbr/cases", json=body | {"manoeuvre": "teleport"})
+    assert bad.status_code == 200 and not bad.json()["added"]  # the batch answers; the case is rejected
+    assert "teleport" in bad.json()["rejected"][0][1]
+    outside = client.post("/api/cbr/cases", json={"file": "/etc/passwd"})
+    assert outside.status_code == 403
+    assert client.post("/api/cbr/cases/remove", json={"case_ids": [case_id]}).json() == {"removed": 1}
+    assert case_id not in {c["case_id"] for c in client.get("/api/cbr/cases").json()}

@@ -220,6 +220,7 @@ def create_app(settings: ServerSettings, config: Config | None = None) -> FastAP
     _install_error_handlers(app)
     router = APIRouter(prefix="/api", dependencies=[Depends(_token_check(settings.token))])
     _add_read_routes(router, store, cfg, settings)
+    _add_cbr_routes(router, store, cfg, settings)
     _add_job_routes(router, jobs, settings)
     app.include_router(router)
     static = resources.files("scenariominer.server") / "static"
@@ -347,6 +348,39 @@ def _add_read_routes(router: APIRouter, store: Any, cfg: Config, settings: Serve
         return result
 
 
+def _add_cbr_routes(router: APIRouter, store: Any, cfg: Config, settings: ServerSettings) -> None:
+    from scenariominer.server.worker import plain
+
+    @router.get("/cbr/cases", tags=["cbr"])
+    def cbr_list(
+        risk_type: Annotated[str | None, Query(max_length=m.MAX_ID_CHARS)] = None,
+    ) -> list[dict[str, Any]]:
+        """The stored cases (of one risk type), in id order (use case ``cbr list``)."""
+        cases: list[dict[str, Any]] = plain(api.cbr_list(store, cfg, risk_type)[: settings.max_results])
+        return cases
+
+    @router.get("/cbr/cases/{case_id}", tags=["cbr"])
+    def cbr_show(case_id: Annotated[str, _id_path()]) -> dict[str, Any]:
+        """One stored case (use case ``cbr show``)."""
+        case: dict[str, Any] = plain(api.cbr_show(store, cfg, case_id))
+        return case
+
+    @router.post("/cbr/cases", tags=["cbr"])
+    def cbr_add(body: m.CbrAddBody) -> dict[str, Any]:
+        """Add cases from a file inside the data roots, or an event with its manoeuvre (``cbr add``)."""
+        file = confine_path(body.file, settings.data_roots) if body.file is not None else None
+        request = api.CbrAddRequest(
+            file, body.log_id, body.event_id, body.manoeuvre, body.justification, body.risk_type
+        )
+        report: dict[str, Any] = plain(api.cbr_add(store, request, cfg))
+        return report
+
+    @router.post("/cbr/cases/remove", tags=["cbr"])
+    def cbr_remove(body: m.CbrRemoveBody) -> dict[str, int]:
+        """Delete cases (use case ``cbr remove``); answers how many existed."""
+        return {"removed": api.cbr_remove(store, cfg, body.case_ids)}
+
+
 def _id_path() -> Any:
     from fastapi import Path as PathParam
 
@@ -431,6 +465,32 @@ def _add_job_routes(router: APIRouter, jobs: JobManager, settings: ServerSetting
     def eval_nl2prog(body: m.EvalNl2ProgJob) -> m.JobModel:
         """Score program generation (use case ``eval nl2prog``)."""
         return submit("eval_nl2prog", body)
+
+    @router.post("/jobs/cbr/build", tags=["jobs"], status_code=202)
+    def cbr_build(body: m.CbrBuildJob) -> m.JobModel:
+        """Build the labelled synthetic case set (use case ``cbr build``)."""
+        return submit("cbr_build", body)
+
+    @router.post("/jobs/recommend", tags=["jobs"], status_code=202)
+    def recommend(body: m.RecommendJob) -> m.JobModel:
+        """Recommend a manoeuvre for an event (use case ``recommend``); picture at /api/jobs/{id}/picture."""
+        return submit("recommend", body)
+
+    @router.post("/jobs/eval/cbr", tags=["jobs"], status_code=202)
+    def eval_cbr(body: m.EvalCbrJob) -> m.JobModel:
+        """Run and score the case-based reasoning grid (use case ``eval cbr``)."""
+        return submit("eval_cbr", body)
+
+    @router.get("/jobs/{job_id}/picture", tags=["jobs"], response_class=FileResponse)
+    def job_picture(job_id: Annotated[str, _id_path()]) -> FileResponse:
+        """The picture a finished job drew (the rollout check of ``recommend``)."""
+        from scenariominer.server.worker import picture_path
+
+        job = jobs.get(job_id)
+        path = picture_path(settings.store_path, job.id)
+        if job.state != "succeeded" or not path.is_file():
+            raise HTTPException(404, f"job {job_id} has no picture")
+        return FileResponse(str(path), media_type="image/png")
 
     @router.get("/jobs", tags=["jobs"])
     def list_jobs(count: Annotated[int, Query(ge=1, le=settings.max_results)] = 100) -> list[m.JobModel]:

@@ -219,3 +219,46 @@ class EvalNl2ProgJob(_Strict):
 
     split: Literal["dev", "holdout", "all"] = "holdout"
     limit: int | None = Field(default=None, ge=1, le=1000)
+
+
+class CbrAddBody(_Strict):
+    """Add cases: from a CSV/JSONL file inside the data roots, or one analysed event with its manoeuvre."""
+
+    file: str | None = Field(default=None, min_length=1, max_length=MAX_PATH_CHARS)
+    log_id: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+    event_id: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+    manoeuvre: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+    justification: str = Field(default="", max_length=4000)
+    risk_type: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+
+
+class CbrRemoveBody(_Strict):
+    """Cases to delete."""
+
+    case_ids: list[str] = Field(min_length=1, max_length=MAX_ITEMS)
+
+
+class CbrBuildJob(_Strict):
+    """Build the labelled synthetic case set (replaces the case base)."""
+
+    per_type: int = Field(default=110, ge=1, le=10_000)
+    holdout_per_type: int = Field(default=10, ge=0, le=1000)
+    seed: int = Field(default=0, ge=0)
+
+
+class RecommendJob(_Strict):
+    """Recommend an evasive manoeuvre for an analysed event (the LLM), with its rollout check."""
+
+    log_id: str = Field(min_length=1, max_length=MAX_ID_CHARS)
+    event_id: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+    k: int | None = Field(default=None, ge=0, le=20)
+    risk_type: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+
+
+class EvalCbrJob(_Strict):
+    """Run (or continue) the case-based reasoning evaluation grid."""
+
+    per_type: int | None = Field(default=None, ge=1, le=10_000)
+    ks: list[int] = Field(default=[0, 1, 3, 5], min_length=1, max_length=10)
+    time_budget_s: float | None = Field(default=None, gt=0, le=7 * 24 * 3600)
+    text_metrics: bool = True

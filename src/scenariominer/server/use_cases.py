@@ -31,6 +31,13 @@ USE_CASE_ROUTES: dict[str, tuple[str, str]] = {
     "evaluate_braking": ("POST", "/api/jobs/eval/braking"),
     "evaluate_mining": ("POST", "/api/jobs/eval/mining"),
     "evaluate_nl2prog": ("POST", "/api/jobs/eval/nl2prog"),
+    "cbr_list": ("GET", "/api/cbr/cases"),
+    "cbr_show": ("GET", "/api/cbr/cases/{case_id}"),
+    "cbr_add": ("POST", "/api/cbr/cases"),
+    "cbr_remove": ("POST", "/api/cbr/cases/remove"),
+    "cbr_build": ("POST", "/api/jobs/cbr/build"),
+    "recommend": ("POST", "/api/jobs/recommend"),
+    "evaluate_cbr": ("POST", "/api/jobs/eval/cbr"),
 }
 
 #: api functions without a route, and why.
@@ -44,12 +51,5 @@ NOT_SERVED: dict[str, str] = {
     "serve": "the model server: a server of its own (`scenariominer llm serve`)",
     "serve_settings": "the model server's settings",
     "store_vacuum": "deletes files: left to an operator at the command line",
-    "cbr_add": "case base: landing in parallel, served once committed",
-    "cbr_build": "case base: landing in parallel, served once committed",
-    "cbr_list": "case base: landing in parallel, served once committed",
-    "cbr_remove": "case base: landing in parallel, served once committed",
-    "cbr_show": "case base: landing in parallel, served once committed",
-    "evaluate_cbr": "case base: landing in parallel, served once committed",
     "open_case_base": "a helper of the case base",
-    "recommend": "case base: landing in parallel, served once committed",
 }

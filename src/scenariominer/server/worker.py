@@ -20,7 +20,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-__all__ = ["JOB_KINDS", "EventSink", "QueueProgress", "mine_result_json", "plain", "run_job"]
+__all__ = ["JOB_KINDS", "EventSink", "QueueProgress", "mine_result_json", "picture_path", "plain", "run_job"]
 
 
 class EventSink(Protocol):
@@ -40,6 +40,11 @@ class QueueProgress:
         self._step = ""
         self._total: int | None = None
         self._done = 0
+
+    @property
+    def job_id(self) -> str:
+        """The job this sink reports for."""
+        return self._job_id
 
     def _send(self, message: str | None = None) -> None:
         payload = {"step": self._step, "total": self._total, "done": self._done, "message": message}
@@ -225,6 +230,41 @@ def _eval_nl2prog(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueuePro
     return api.evaluate_nl2prog(request, cfg, progress=progress)
 
 
+def _cbr_build(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+
+    request = api.CbrBuildRequest(p["per_type"], p["holdout_per_type"], p["seed"])
+    return api.cbr_build(store, request, cfg)
+
+
+def _recommend(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+
+    out = picture_path(store.root, progress.job_id)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    request = api.RecommendRequest(
+        p["log_id"], p.get("event_id"), out, k=p.get("k"), risk_type=p.get("risk_type")
+    )
+    return api.recommend(store, request, cfg)
+
+
+def _eval_cbr(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+
+    request = api.CbrEvalRequest(
+        per_type=p.get("per_type"),
+        ks=tuple(p.get("ks", (0, 1, 3, 5))),
+        time_budget_s=p.get("time_budget_s"),
+        text_metrics=p.get("text_metrics", True),
+    )
+    return api.evaluate_cbr(store, request, cfg, progress=progress)
+
+
+def picture_path(store_root: Path, job_id: str) -> Path:
+    """Where a job's picture (the rollout check of ``recommend``) is written."""
+    return Path(store_root) / "server" / "pictures" / f"{job_id}.png"
+
+
 _Runner = Callable[[Mapping[str, Any], Any, Any, QueueProgress], Any]
 
 #: Job kind → the function that runs it in the worker.
@@ -242,6 +282,9 @@ _RUNNERS: dict[str, _Runner] = {
     "eval_braking": _eval_braking,
     "eval_mining": _eval_mining,
     "eval_nl2prog": _eval_nl2prog,
+    "cbr_build": _cbr_build,
+    "recommend": _recommend,
+    "eval_cbr": _eval_cbr,
 }
 
 #: Every job kind the server runs.
