@@ -258,7 +258,8 @@ def recommend(
     out = request.out or Path(
         f"{record.log_id}_{record.event_id.split(':', 1)[-1].replace(':', '_')}_cbr.png"
     )
-    title = f"{record.event_id} ({query.risk_type}): {rec.manoeuvre}"
+    short_id = f"{record.log_id[:8]}:{record.guest_id[:8]}:{record.start_ns}"
+    title = f"event {short_id} ({query.risk_type}): recommended {rec.manoeuvre}"
     picture = plot_rollout(scene, outcomes, rec.manoeuvre, out, title)
     return RecommendResult(query, rec, outcomes, picture, time.perf_counter() - start)
 

@@ -1,7 +1,8 @@
 """From our own logs: an analysed braking event becomes a CBR query and a rollout scene.
 
-Caption: the event's description (the LLM's rephrased description when it has one, else the
-rule-based tag description), prefixed with the measured facts. Risk type: a pedestrian or cyclist
+Caption: the event's measured facts (who, speeds, relative heading, manoeuvres, gap, TTC) followed
+by its description (the LLM's rephrased description when it has one, else the overview sentence of
+the rule-based tag description), cut at :data:`MAX_CAPTION_CHARS`. Risk type: a pedestrian or cyclist
 guest is ``pedestrian``; otherwise the event's category through ``cbr.category_map``
 (``lead_brake``/``approach_stop`` -> vehicle ahead, ``cut_in`` -> merging vehicle,
 ``obj_crossing`` -> adjacent vehicle, ``left_oppo`` -> opposite turning vehicle, ``right_ped`` ->
@@ -18,8 +19,17 @@ from scenariominer.explain.records import EventRecord, records_from_table
 from scenariominer.explain.search import load_events
 from scenariominer.store import ScenarioStore
 
-__all__ = ["VULNERABLE_CATEGORIES", "find_event", "query_from_event", "risk_type_of", "scene_of_event"]
+__all__ = [
+    "MAX_CAPTION_CHARS",
+    "VULNERABLE_CATEGORIES",
+    "find_event",
+    "query_from_event",
+    "risk_type_of",
+    "scene_of_event",
+]
 
+#: Longest caption given to the model (the prompt stays short enough for a few seconds per call).
+MAX_CAPTION_CHARS = 700
 #: Guest categories that make an event a pedestrian conflict whatever its scenario category.
 VULNERABLE_CATEGORIES = frozenset({"PEDESTRIAN", "BICYCLIST", "BICYCLE", "WHEELCHAIR", "WHEELED_RIDER"})
 
@@ -32,10 +42,11 @@ def risk_type_of(record: EventRecord, cfg: CbrConfig) -> str:
 
 
 def query_from_event(record: EventRecord, cfg: CbrConfig) -> Query:
-    """The CBR query of an analysed event."""
-    text = record.llm_description or record.tag_description
-    facts = record.facts.strip()
-    caption = " ".join(f"{facts} {text}".split()) if facts else " ".join(text.split())
+    """The CBR query of an analysed event (caption at most :data:`MAX_CAPTION_CHARS` long)."""
+    text = record.llm_description or record.tag_description.split("Initial tags", 1)[0]
+    caption = " ".join(f"{record.facts} {text}".split())
+    if len(caption) > MAX_CAPTION_CHARS:
+        caption = caption[: MAX_CAPTION_CHARS - 3].rsplit(" ", 1)[0] + "..."
     return Query(record.event_id, caption, risk_type_of(record, cfg))
 
 

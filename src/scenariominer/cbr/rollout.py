@@ -31,7 +31,7 @@ FloatArray = NDArray[np.float64]
 #: Name of the outcome of the recorded ego trajectory.
 RECORDED = "recorded"
 _EXTEND_M = 300.0
-_MIN_SEGMENT_M = 1e-3
+_PATH_STEP_M = 0.5
 
 
 @dataclass(frozen=True)
@@ -125,15 +125,14 @@ def _reference_path(scene: RolloutScene) -> tuple[FloatArray, FloatArray, FloatA
     x, y = x[ok], y[ok]
     if x.size == 0:
         raise CbrError("rollout scene: the recorded ego has no position")
-    seg = np.hypot(np.diff(x), np.diff(y))
-    keep = np.concatenate([[True], seg > _MIN_SEGMENT_M])
-    x, y = x[keep], y[keep]
+    # Thin the path to points _PATH_STEP_M apart so annotation jitter does not turn its heading.
+    s_all = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))])
+    _, first = np.unique(np.floor(s_all / _PATH_STEP_M), return_index=True)
+    x, y = x[first], y[first]
     yaw0 = float(np.asarray(scene.ego_yaw_rad)[0])
     heading_end = yaw0 if x.size == 1 else float(np.arctan2(y[-1] - y[-2], x[-1] - x[-2]))
     x = np.append(x, x[-1] + _EXTEND_M * np.cos(heading_end))
     y = np.append(y, y[-1] + _EXTEND_M * np.sin(heading_end))
-    if x.size == 2 and keep.sum() == 1:  # stationary ego: its heading, not an arbitrary direction
-        x[1], y[1] = x[0] + _EXTEND_M * np.cos(yaw0), y[0] + _EXTEND_M * np.sin(yaw0)
     s = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))])
     heading = np.unwrap(np.arctan2(np.diff(y), np.diff(x)))
     return s, x, y, np.append(heading, heading[-1])
