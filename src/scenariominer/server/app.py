@@ -12,6 +12,7 @@ import json
 import logging
 import shutil
 import tempfile
+import threading
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from dataclasses import asdict
@@ -250,6 +251,8 @@ def _version() -> str:
 
 def _add_read_routes(router: APIRouter, store: Any, cfg: Config, settings: ServerSettings) -> None:
     limit = settings.max_results
+    # Reads run in the thread pool; more than a few at once only contend for the cores and the GIL.
+    gate = threading.BoundedSemaphore(settings.read_concurrency)
 
     @router.get("/health", tags=["store"])
     def health() -> dict[str, str]:
@@ -277,7 +280,9 @@ def _add_read_routes(router: APIRouter, store: Any, cfg: Config, settings: Serve
         offset: Annotated[int, Query(ge=0)] = 0, count: Annotated[int, Query(ge=1, le=limit)] = 100
     ) -> list[m.LogModel]:
         """The stored logs with their metadata and analysed events per category."""
-        return [_log_model(e) for e in api.list_logs(store)[offset : offset + count]]
+        with gate:
+            entries = api.list_logs(store)
+        return [_log_model(e) for e in entries[offset : offset + count]]
 
     @router.get("/logs/{log_id}", tags=["logs"])
     def log_detail(log_id: Annotated[str, _id_path()]) -> m.LogModel:
@@ -307,7 +312,9 @@ def _add_read_routes(router: APIRouter, store: Any, cfg: Config, settings: Serve
         from scenariominer.explain.search import SearchQuery
 
         query = SearchQuery(text, category or None, k, min_decel_mps2, max_ttc_s, sort)
-        return [_event_model(h.event, h.score) for h in api.search(store, query, cfg)]
+        with gate:
+            hits = api.search(store, query, cfg)
+        return [_event_model(h.event, h.score) for h in hits]
 
     @router.get("/scene/{log_id}", tags=["events"])
     def scene(
@@ -316,7 +323,9 @@ def _add_read_routes(router: APIRouter, store: Any, cfg: Config, settings: Serve
         max_timestamps: Annotated[int, Query(ge=2, le=2000)] = 400,
     ) -> m.SceneModel:
         """One scenario as arrays for the bird's-eye view: tracks, map lanes and crossings, tags."""
-        return _scene_model(api.scene(store, api.SceneRequest(log_id, event_id, max_timestamps)))
+        with gate:
+            scene = api.scene(store, api.SceneRequest(log_id, event_id, max_timestamps))
+        return _scene_model(scene)
 
     @router.get("/show/{log_id}", tags=["events"], response_class=FileResponse)
     def show(

@@ -43,6 +43,7 @@ class ServerSettings:
         workers: job worker processes running at once.
         max_queued: jobs waiting beyond the running ones before a submission is refused (HTTP 429).
         max_results: the most search hits or listed rows one answer holds.
+        read_concurrency: reads (logs, search, scene) computed at once; the others wait their turn.
         jobs_db: SQLite file of the job table (default ``<store>/server/jobs.sqlite``).
     """
 
@@ -55,6 +56,7 @@ class ServerSettings:
     workers: int = 1
     max_queued: int = 8
     max_results: int = 500
+    read_concurrency: int = 2
     jobs_db: Path | None = None
 
     def __post_init__(self) -> None:
@@ -67,8 +69,8 @@ class ServerSettings:
             raise ConfigError("the token must be at least 8 characters long")
         if not 0 <= self.port <= 65535:
             raise ConfigError(f"port must be in 0..65535, got {self.port}")
-        if self.workers < 1 or self.max_queued < 1:
-            raise ConfigError("workers and max_queued must be at least 1")
+        if self.workers < 1 or self.max_queued < 1 or self.read_concurrency < 1:
+            raise ConfigError("workers, max_queued and read_concurrency must be at least 1")
 
     @property
     def jobs_db_path(self) -> Path:

@@ -161,6 +161,7 @@ async function openScene(logId, eventId, referred) {
   scrub.max = String(Math.max(0, scene.t_s.length - 1));
   scrub.value = "0";
   showView("detail");
+  window.scrollTo(0, 0);
   drawFrame(0);
 }
 
@@ -169,7 +170,7 @@ function fillFacts(scene) {
   facts.replaceChildren();
   const e = scene.event;
   const rows = e ? [
-    ["category", e.category], ["baseline (rules)", e.baseline_category], ["judge", e.judge],
+    ["category", e.category], ["baseline (rules)", e.baseline_category], ["judge", e.judge], ["LLM status", e.llm_status],
     ["key object", e.guest_id + " (" + e.guest_category + ")"], ["time", fmt(e.start_s) + "–" + fmt(e.end_s) + " s"],
     ["min TTC", fmt(e.min_ttc_s) + " s"], ["peak decel", fmt(e.peak_decel_mps2) + " m/s²"],
     ["PET", fmt(e.pet_s) + " s"], ["headway", fmt(e.headway_s) + " s"], ["min distance", fmt(e.min_distance_m) + " m"],
