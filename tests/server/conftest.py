@@ -106,9 +106,8 @@ class LiveServer:
 def make_settings(store: BuiltStore, tmp: Path, **options: object) -> object:
     from scenariominer.server import ServerSettings
 
-    return ServerSettings.create(
-        store.root, [store.data_root], config_path=store.config, jobs_db=tmp / "jobs.sqlite", **options
-    )
+    options.setdefault("config_path", store.config)
+    return ServerSettings.create(store.root, [store.data_root], jobs_db=tmp / "jobs.sqlite", **options)
 
 
 @pytest.fixture(scope="session")

@@ -68,9 +68,14 @@ def driver() -> Iterator[Any]:
 
 
 def _wait(predicate: Any, timeout_s: float = 30.0, what: str = "condition") -> Any:
+    from selenium.common.exceptions import StaleElementReferenceException
+
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
-        value = predicate()
+        try:
+            value = predicate()
+        except StaleElementReferenceException:  # the UI re-rendered a table while it was read
+            value = None
         if value:
             return value
         time.sleep(0.1)
@@ -171,3 +176,21 @@ def test_hostile_names_are_shown_as_text(driver: Any, live: Any, hostile_ids: tu
     assert log_id in _by_id(d, "detail-title").text
     assert not d.find_elements("css selector", "main img, main b, main script")
     assert d.execute_script("return window.__pwned === undefined;")
+
+
+def test_jobs_page_runs_analyze_and_reports_refusals(driver: Any, live: Any) -> None:
+    d = driver
+    d.get(live.url + "/")
+    d.find_element("css selector", "nav button[data-view=jobs]").click()
+    _by_id(d, "ingest-path").send_keys("/etc")
+    _by_id(d, "ingest-form").find_element("css selector", "button").click()
+    _wait(lambda: "outside" in _by_id(d, "error-bar").text, what="the refusal of a path outside the roots")
+    _by_id(d, "analyze-form").find_element("css selector", "button").click()
+    _wait(lambda: _by_id(d, "job-status").text.endswith("succeeded"), timeout_s=90, what="the analyze job")
+
+    def analyze_succeeded() -> bool:
+        cells = [[c.text for c in r.find_elements("css selector", "td")] for r in _rows(d, "jobs-table")]
+        return any(c[1] == "analyze" and c[2] == "succeeded" for c in cells)
+
+    _wait(analyze_succeeded, what="the finished job in the jobs table")
+    d.save_screenshot(str(SCREENSHOTS / "jobs.png"))

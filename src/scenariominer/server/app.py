@@ -253,6 +253,7 @@ def _add_read_routes(router: APIRouter, store: Any, cfg: Config, settings: Serve
     limit = settings.max_results
     # Reads run in the thread pool; more than a few at once only contend for the cores and the GIL.
     gate = threading.BoundedSemaphore(settings.read_concurrency)
+    draw_lock = threading.Lock()
 
     @router.get("/health", tags=["store"])
     def health() -> dict[str, str]:
@@ -335,7 +336,8 @@ def _add_read_routes(router: APIRouter, store: Any, cfg: Config, settings: Serve
         """The bird's-eye-view PNG of an event (use case ``show``)."""
         folder = Path(tempfile.mkdtemp(prefix="scenariominer-show-"))
         try:
-            path = api.show(store, api.ShowRequest(log_id, folder / "event.png", event_id), cfg)
+            with draw_lock:  # matplotlib's pyplot is not thread-safe
+                path = api.show(store, api.ShowRequest(log_id, folder / "event.png", event_id), cfg)
         except BaseException:
             shutil.rmtree(folder, ignore_errors=True)
             raise

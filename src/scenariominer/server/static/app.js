@@ -478,12 +478,46 @@ async function loadJobs() {
   }
 }
 
+async function submitJob(path, body) {
+  showError("");
+  let job;
+  try {
+    job = await apiPost(path, body);
+  } catch (e) {
+    showError(e.message);
+    return;
+  }
+  await loadJobs();
+  const label = job.kind + " " + job.id.slice(0, 8);
+  try {
+    await followJob(job.id, (type, data) => {
+      if (type === "progress") {
+        $("job-status").textContent = label + ": " + data.step + " " + data.done + (data.total !== null ? "/" + data.total : "");
+      }
+      if (type === "state") $("job-status").textContent = label + ": " + data.state;
+      if (type === "end" && data.error) showError(data.error);
+    });
+  } catch (e) {
+    showError(e.message);
+  }
+  await loadJobs();
+  await loadSummary();
+}
+
 // ------------------------------------------------------------------ wiring
 function init() {
   for (const b of document.querySelectorAll("nav button")) b.addEventListener("click", () => showView(b.dataset.view));
   $("search-form").addEventListener("submit", runSearch);
   $("mine-form").addEventListener("submit", runMine);
   $("detail-back").addEventListener("click", () => showView("scenarios"));
+  $("ingest-form").addEventListener("submit", (e) => {
+    e.preventDefault();
+    submitJob("/api/jobs/ingest", { paths: [$("ingest-path").value] });
+  });
+  $("analyze-form").addEventListener("submit", (e) => {
+    e.preventDefault();
+    submitJob("/api/jobs/analyze", { llm: $("analyze-llm").checked });
+  });
   $("jobs-refresh").addEventListener("click", () => loadJobs().catch((e) => showError(e.message)));
   $("play-button").addEventListener("click", () => (state.playing ? stopPlaying() : startPlaying()));
   $("scrub").addEventListener("input", () => { stopPlaying(); drawFrame(Number($("scrub").value)); });
