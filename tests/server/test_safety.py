@@ -122,3 +122,14 @@ def test_jobs_survive_a_crash_and_a_stop_as_interrupted(built_store: Any, tmp_pa
     finally:
         proc.send_signal(signal.SIGINT)
         proc.wait(timeout=60)
+
+
+def test_one_server_per_job_table(servers: Any) -> None:
+    from scenariominer.server import create_app
+    from scenariominer.server.jobs import JobTableBusyError
+
+    settings = servers.settings()
+    with servers.start(settings), pytest.raises(JobTableBusyError, match="one server per store"):
+        create_app(settings)
+    with servers.start(settings) as again:  # the first one stopped: its lock is gone
+        assert httpx.get(again.url + "/api/health").status_code == 200

@@ -28,7 +28,15 @@ from typing import Any
 
 from scenariominer.errors import ScenarioMinerError
 
-__all__ = ["FINAL_STATES", "Job", "JobEvent", "JobManager", "QueueFullError", "UnknownJobError"]
+__all__ = [
+    "FINAL_STATES",
+    "Job",
+    "JobEvent",
+    "JobManager",
+    "JobTableBusyError",
+    "QueueFullError",
+    "UnknownJobError",
+]
 
 #: States a job never leaves.
 FINAL_STATES = frozenset({"succeeded", "failed", "cancelled", "interrupted"})
@@ -54,6 +62,27 @@ class QueueFullError(ScenarioMinerError):
 
 class UnknownJobError(ScenarioMinerError, LookupError):
     """No job has this id."""
+
+
+class JobTableBusyError(ScenarioMinerError):
+    """Another server already runs the jobs of this job table (one server per store)."""
+
+
+def _lock(path: Path) -> Any:
+    """An exclusive lock on ``path`` held until the returned file is closed (or the process ends)."""
+    import fcntl
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle = path.open("a")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        handle.close()
+        raise JobTableBusyError(
+            f"another scenariominer server runs the jobs of {path.with_suffix('')} (one server per store); "
+            "stop it, or give this one another store"
+        ) from None
+    return handle
 
 
 @dataclass(frozen=True)
@@ -163,6 +192,7 @@ class JobManager:
         workers: int = 1,
         max_queued: int = 8,
     ) -> None:
+        self._lock_file = _lock(db_path.with_suffix(db_path.suffix + ".lock"))
         self._table = JobTable(db_path)
         self._store_path = str(store_path)
         self._config_path = str(config_path) if config_path is not None else None
@@ -260,6 +290,7 @@ class JobManager:
             t.join(timeout=10.0)
         self._messages.close()
         self._messages.join_thread()
+        self._lock_file.close()
 
     # ------------------------------------------------------------------ internals
     def _get(self, job_id: str) -> _Live:
