@@ -35,6 +35,9 @@ cbr remove          :func:`cbr_remove`                               :mod:`.cbr`
 cbr build           :func:`cbr_build`                                :mod:`.cbr`
 recommend           :func:`recommend`                                :mod:`.cbr`
 eval cbr            :func:`evaluate_cbr`                             :mod:`.cbr`
+graph build         :func:`build_graph`                              :mod:`.graph`
+ask                 :func:`ask`                                      :mod:`.graph`
+eval retrieval      :func:`evaluate_retrieval`                       :mod:`.graph`
 ==================  ===============================================  ============================
 
 Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
@@ -108,6 +111,13 @@ _EXPORTS: dict[str, str] = {
     "evaluate_cbr": "cbr",
     "open_case_base": "cbr",
     "recommend": "cbr",
+    "AskAnswer": "graph",
+    "AskRequest": "graph",
+    "GraphBuildRequest": "graph",
+    "RetrievalEvalRequest": "graph",
+    "ask": "graph",
+    "build_graph": "graph",
+    "evaluate_retrieval": "graph",
 }
 
 __all__ = sorted(_EXPORTS)

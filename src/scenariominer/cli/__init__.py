@@ -13,7 +13,19 @@ from typing import Annotated
 
 import typer
 
-from scenariominer.cli import braking, cbr, corpus, evaluation, mining, models, represent, server, storecmd
+from scenariominer.cli import (
+    braking,
+    cbr,
+    corpus,
+    evaluation,
+    graph,
+    mining,
+    models,
+    represent,
+    server,
+    simulate,
+    storecmd,
+)
 from scenariominer.cli._common import SafeGroup, settings
 
 __all__ = ["app", "main"]
@@ -44,6 +56,8 @@ braking.register(app)
 mining.register(app)
 represent.register(app)
 cbr.register(app)
+graph.register(app)
+simulate.register(app)
 server.register(app)
 app.add_typer(evaluation.app, name="eval", help="Evaluate braking explanations and mining against labels.")
 app.add_typer(models.app, name="llm", help="Language-model and embedding backends.")

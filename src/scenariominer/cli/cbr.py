@@ -15,14 +15,16 @@ from scenariominer.cli.text import safe
 if TYPE_CHECKING:
     from scenariominer.cbr.cases import AddReport, Case
     from scenariominer.cbr.rollout import RolloutOutcome
+    from scenariominer.config import Config
     from scenariominer.eval.cbr import CbrEvaluation
+    from scenariominer.store import ScenarioStore
 
 app = typer.Typer(
     name="cbr", help="The case base of evasive manoeuvres (case-based reasoning).", no_args_is_help=True
 )
 
 
-def _store(store: Path | None, config: Path | None, create: bool = False):  # type: ignore[no-untyped-def]
+def _store(store: Path | None, config: Path | None, create: bool = False) -> tuple[ScenarioStore, Config]:
     from scenariominer import api
 
     cfg = load_cfg(config)

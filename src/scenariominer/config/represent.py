@@ -78,7 +78,11 @@ class EmbedderConfig:
         batch_size: windows per optimiser step.
         learning_rate: Adam step size.
         kl_weight: weight of the KL term against the reconstruction loss.
-        position_scale_m: positions are divided by this (metres) before entering the network.
+        position_scale_m: forward positions are divided by this (metres) before entering the
+            network (and the loss is measured in these units).
+        lateral_scale_m: left positions are divided by this (metres); 0 means
+            ``position_scale_m``. A smaller lateral scale makes a lane's width count as much as a
+            longer forward distance in the loss.
         seed: seed of parameter initialisation and batch order (training is deterministic on CPU).
         threads: torch CPU threads (0: leave torch's default).
     """
@@ -92,6 +96,7 @@ class EmbedderConfig:
     learning_rate: float = 2e-3
     kl_weight: float = 1e-3
     position_scale_m: float = 50.0
+    lateral_scale_m: float = 0.0
     seed: int = 0
     threads: int = 2
 
@@ -106,6 +111,8 @@ class EmbedderConfig:
             raise ValueError("represent.embedder: epochs and batch_size must be >= 1")
         if not (self.learning_rate > 0 and self.position_scale_m > 0 and self.kl_weight >= 0):
             raise ValueError("represent.embedder: learning_rate and position_scale_m > 0, kl_weight >= 0")
+        if self.lateral_scale_m < 0:
+            raise ValueError("represent.embedder: lateral_scale_m must be >= 0 (0: position_scale_m)")
         if self.threads < 0:
             raise ValueError("represent.embedder: threads must be >= 0")
 

@@ -3,9 +3,10 @@
 Network (PyTorch, CPU, imported lazily):
 
 * **encoder**: at each of the ``S`` steps the window's ``A`` agents give ``(forward, left, valid)``
-  (positions divided by ``position_scale_m``), concatenated to ``3A`` inputs; an LSTM reads the
-  steps, multi-head self-attention mixes its outputs across steps (with a residual), the mean over
-  steps feeds two linear heads: the Gaussian latent's mean and log-variance;
+  (positions divided by ``position_scale_m`` forward and ``lateral_scale_m`` left), concatenated
+  to ``3A`` inputs; an LSTM reads the steps, multi-head self-attention mixes its outputs across
+  steps (with a residual), the mean over steps feeds two linear heads: the Gaussian latent's mean
+  and log-variance;
 * **decoder**: the latent sample, repeated at every step, drives an LSTM whose outputs a linear
   layer maps to ``2A`` positions per step;
 * **loss**: reconstruction plus ``kl_weight`` times the KL divergence to a standard normal. The
@@ -228,11 +229,16 @@ class TrajectoryEmbedder:
         kl = -0.5 * (1 + logvar - mu**2 - logvar.exp()).sum(dim=-1).mean()
         return rec + self.config.kl_weight * kl, rec
 
+    def _scale(self) -> Float32Array:
+        """``(2,)`` metres per network unit, forward and left."""
+        cfg = self.config
+        return np.asarray(
+            [cfg.position_scale_m, cfg.lateral_scale_m or cfg.position_scale_m], dtype=np.float32
+        )
+
     def _tensors(self, windows: WindowSet) -> tuple[Any, Any]:
         torch = _torch()
-        xy = torch.from_numpy(
-            np.ascontiguousarray(windows.xy_m, dtype=np.float32) / self.config.position_scale_m
-        )
+        xy = torch.from_numpy(np.ascontiguousarray(windows.xy_m, dtype=np.float32) / self._scale())
         return xy, torch.from_numpy(np.ascontiguousarray(windows.valid))
 
     # ------------------------------------------------------------------ using
@@ -271,7 +277,7 @@ class TrajectoryEmbedder:
         xy, valid = self._tensors(windows)
         with torch.inference_mode():
             mu, _ = net.encode(xy, valid)
-            recon = net.decode(mu).numpy() * self.config.position_scale_m
+            recon = net.decode(mu).numpy() * self._scale()
         return np.asarray(recon, dtype=np.float32)
 
     # ------------------------------------------------------------------ persistence

@@ -1,0 +1,216 @@
+"""Store stage: descriptions, graph, communities and LLM summaries of every windowed log, incrementally.
+
+A graph belongs to one clustering of one embedder (``graph id`` = ``<model id>``), or to no
+embedder (``graph id`` = ``windows``: descriptions and graph without clusters). A log is
+(re)described only when its windows or its cluster labels changed since its rows were written
+(its ``source`` stamp); other logs' rows are left as they are. Communities are recomputed over the
+merged graph (no model call), and LLM summaries are asked only for clusters and communities whose
+inputs changed (:mod:`.summaries`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenariominer.llm.client import ChatClient
+from scenariominer.llm.embeddings import Embedder
+from scenariominer.progress import NullProgress, Progress
+from scenariominer.represent.cluster import latest_clustering, load_labels
+from scenariominer.represent.describe import DescribeSettings, describe_windows
+from scenariominer.represent.graph import (
+    EMBEDDED_ENTITIES,
+    EMBEDDED_RELATIONS,
+    CommunityLevel,
+    graph_elements,
+    graph_logs,
+    leiden_communities,
+    load_graph,
+    save_log_graph,
+)
+from scenariominer.represent.model_table import list_models, load_embeddings
+from scenariominer.represent.summaries import SummarySettings, cluster_summaries, community_reports
+from scenariominer.represent.window_table import load_windows, log_window_records
+from scenariominer.store import ScenarioStore
+
+__all__ = [
+    "COMMUNITIES_TABLE",
+    "GraphBuildReport",
+    "GraphSettings",
+    "build_store_graph",
+    "load_communities",
+    "resolve_graph_id",
+]
+
+COMMUNITIES_TABLE = "graph_communities"
+_SCHEMA = 1
+_BATCH_LOGS = 64
+
+
+@dataclass(frozen=True)
+class GraphSettings:
+    """Settings of the graph stage.
+
+    Attributes:
+        resolutions: Leiden resolution per community level, coarse to fine.
+        describe: thresholds of the template descriptions.
+        summaries: how many samples and communities the LLM sees.
+        seed: Leiden seed.
+    """
+
+    resolutions: tuple[float, ...] = (0.05, 0.3, 1.0)
+    describe: DescribeSettings = DescribeSettings()
+    summaries: SummarySettings = SummarySettings()
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class GraphBuildReport:
+    """Result of :func:`build_store_graph`.
+
+    Attributes:
+        graph_id: the graph.
+        clustering_id: the clustering whose labels the samples carry (``""``: none).
+        n_logs: logs in the graph.
+        n_logs_built: logs (re)described now.
+        n_samples: samples in the graph.
+        n_entities: entities.
+        n_relationships: relationships.
+        communities_per_level: communities found at each level.
+        n_summaries: cluster summaries, contrasts and community reports available.
+        n_llm_calls: summaries asked now (the rest came from the store).
+        failed: ``(log id, reason)`` of logs that could not be described.
+    """
+
+    graph_id: str
+    clustering_id: str
+    n_logs: int
+    n_logs_built: int
+    n_samples: int
+    n_entities: int
+    n_relationships: int
+    communities_per_level: tuple[int, ...]
+    n_summaries: int
+    n_llm_calls: int
+    failed: tuple[tuple[str, str], ...]
+
+
+def resolve_graph_id(store: ScenarioStore, model_id: str | None, loss: str | None) -> str:
+    """``model_id``, the latest model (with ``loss``), or ``windows`` when the store has no model."""
+    if model_id:
+        return model_id
+    models = [m for m in list_models(store) if loss is None or m.loss == loss]
+    if models:
+        return models[0].model_id
+    return "windows"
+
+
+def _source(window_config: str, clustering_id: str, labels: Sequence[int]) -> str:
+    text = json.dumps([window_config, clustering_id, list(labels)])
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def build_store_graph(
+    store: ScenarioStore,
+    graph_id: str,
+    embedder: Embedder,
+    client: ChatClient | None = None,
+    settings: GraphSettings | None = None,
+    progress: Progress | None = None,
+) -> GraphBuildReport:
+    """Describe new or changed logs, store the graph, recompute communities, summarise (if ``client``)."""
+    s = settings or GraphSettings()
+    bar = progress or NullProgress()
+    records = log_window_records(store)
+    clustering = latest_clustering(store, graph_id) if graph_id != "windows" else None
+    cid = clustering.clustering_id if clustering else ""
+    logs = sorted(lid for lid, rec in records.items() if rec.window_ids)
+    labels = load_labels(store, cid, logs) if cid else None
+    label_of = dict(zip(labels.window_ids.tolist(), labels.labels.tolist(), strict=True)) if labels else {}
+    stored = graph_logs(store, graph_id)
+    wanted = {
+        lid: _source(records[lid].config, cid, [label_of.get(w, -2) for w in records[lid].window_ids])
+        for lid in logs
+    }
+    todo = [lid for lid in logs if stored.get(lid) != wanted[lid]]
+    failed: list[tuple[str, str]] = []
+    bar.start("describing logs", total=len(todo))
+    for b in range(0, len(todo), _BATCH_LOGS):
+        batch = todo[b : b + _BATCH_LOGS]
+        by_log = {}
+        for lid in batch:
+            try:
+                ws = load_windows(store, log_ids=[lid])
+                clusters = (
+                    np.asarray([label_of.get(w, -1) for w in ws.window_ids.tolist()], np.int64)
+                    if cid
+                    else None
+                )
+                descs = describe_windows(ws, clusters, s.describe)
+                els = graph_elements(descs, graph_id)
+                e_texts = [e.text for e in els.entities if e.kind in EMBEDDED_ENTITIES]
+                r_texts = [r.text for r in els.relationships if r.kind in EMBEDDED_RELATIONS]
+                vecs = embedder.embed([d.text for d in descs] + e_texts + r_texts).vectors
+                n_d, n_e = len(descs), len(e_texts)
+                by_log[lid] = (
+                    descs,
+                    els,
+                    {
+                        "samples": vecs[:n_d],
+                        "entities": vecs[n_d : n_d + n_e],
+                        "relationships": vecs[n_d + n_e :],
+                    },
+                )
+            except Exception as exc:  # noqa: BLE001 -- one bad log must not stop the batch
+                failed.append((lid, f"{type(exc).__name__}: {exc}"))
+            bar.advance()
+        save_log_graph(store, graph_id, by_log, embedder.model, wanted)
+    graph = load_graph(store, graph_id)
+    levels = leiden_communities(graph.elements, s.resolutions, s.seed)
+    store.corpus(COMMUNITIES_TABLE, _SCHEMA).upsert(
+        {
+            graph_id: {
+                "levels": [
+                    {"level": lv.level, "resolution": lv.resolution, "membership": lv.membership}
+                    for lv in levels
+                ]
+            }
+        }
+    )
+    summaries = []
+    if client is not None and cid and labels is not None:
+        wids, _logs, z = load_embeddings(store, graph_id, logs)
+        lab = np.asarray([label_of.get(w, -1) for w in wids.tolist()], np.int64)
+        summaries += cluster_summaries(store, graph, wids, z, lab, client, embedder, s.summaries, bar)
+    if client is not None:
+        summaries += community_reports(store, graph, levels, client, embedder, s.summaries, bar)
+    return GraphBuildReport(
+        graph_id=graph_id,
+        clustering_id=cid,
+        n_logs=len(graph_logs(store, graph_id)),
+        n_logs_built=len(todo) - len(failed),
+        n_samples=len(graph.samples),
+        n_entities=len(graph.elements.entities),
+        n_relationships=len(graph.elements.relationships),
+        communities_per_level=tuple(len(set(lv.membership.values())) for lv in levels),
+        n_summaries=len(summaries),
+        n_llm_calls=sum(not x.cached for x in summaries),
+        failed=tuple(failed),
+    )
+
+
+def load_communities(store: ScenarioStore, graph_id: str) -> list[CommunityLevel]:
+    """The communities stored by the last build of ``graph_id`` (empty if none)."""
+    row = store.corpus(COMMUNITIES_TABLE, _SCHEMA).get(graph_id)
+    if row is None:
+        return []
+    return [
+        CommunityLevel(
+            int(lv["level"]), float(lv["resolution"]), {k: int(v) for k, v in lv["membership"].items()}
+        )
+        for lv in row.data["levels"]
+    ]
