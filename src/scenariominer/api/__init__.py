@@ -38,6 +38,7 @@ eval cbr            :func:`evaluate_cbr`                             :mod:`.cbr`
 graph build         :func:`build_graph`                              :mod:`.graph`
 ask                 :func:`ask`                                      :mod:`.graph`
 eval retrieval      :func:`evaluate_retrieval`                       :mod:`.graph`
+simulate highway    :func:`simulate_highway`                         :mod:`.sim_highway`
 ==================  ===============================================  ============================
 
 Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
@@ -118,6 +119,9 @@ _EXPORTS: dict[str, str] = {
     "ask": "graph",
     "build_graph": "graph",
     "evaluate_retrieval": "graph",
+    "HighwaySimReport": "sim_highway",
+    "HighwaySimRequest": "sim_highway",
+    "simulate_highway": "sim_highway",
 }
 
 __all__ = sorted(_EXPORTS)
