@@ -71,13 +71,13 @@ LOWER_MARKINGS_M = (22.0, 25.8, 29.6, 33.4)
 LOWER_LANES = {6: -23.9, 7: -27.7, 8: -31.5}  # 8 is the rightmost lane driving towards +x
 
 
-def write_highway(out_dir: Path, recording_id: int = 1) -> HighDFiles:
+def write_highway(out_dir: Path, recording_id: int = 1, frame_rate_hz: float = 25.0) -> HighDFiles:
     """A 60 s recording: cruising cars on three lanes plus a known left lane change and an overtake.
 
     Vehicle 7 starts in lane 8 at 30 m/s and moves one lane to the left (lane 7) from 20 s to 24 s,
     passing the 22 m/s truck 3 that keeps lane 8. Others keep their lanes at fixed speeds.
     """
-    fr = 25.0
+    fr = frame_rate_hz
     k = int(60 * fr)
     t = np.arange(k) / fr
     vehicles = []

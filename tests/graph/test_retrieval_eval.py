@@ -57,6 +57,22 @@ def test_truth_comes_from_the_recording(highway_store: ScenarioStore) -> None:
     assert left_lane == {"ego2", "ego4"}
 
 
+def test_frames_follow_the_recording_frame_rate(tmp_path: Path) -> None:
+    # SUMO-made recordings run at 10 Hz: descriptions cite, and truth reads, the recording's frames
+    write_highway(tmp_path / "rec", frame_rate_hz=10.0)
+    store = open_store(tmp_path / "store")
+    ingest([tmp_path / "rec"], store, load_config())
+    build_store_windows(store, WindowConfig(lengths_s=(15.0,), overlap=0.0))
+    build_store_graph(store, "windows", EMBEDDER)
+    samples = load_graph(store, "windows").samples
+    second = next(s for s in samples if str(s["window_id"]).startswith("highd-01-ego7-w1"))
+    assert (second["start_frame"], second["end_frame"]) == (151, 301)  # highD frames count from 1
+    assert "7.2 s (frame 223)" in str(second["text"])  # the lane change at 22.2 s in the recording
+    truth = store_window_truth(store, samples)
+    assert len(truth) == 24
+    assert {w for w, t in truth.items() if t["lane_changes_left"] == 1} == {"highd-01-ego7-w1|7|0|15000"}
+
+
 def test_rules_are_checked_and_evaluated() -> None:
     judge = compile_rule("lane_changes_left >= 1 and not (road_lanes == 2) or abs(accel_mps2) > 3")
     assert judge({"lane_changes_left": 1, "road_lanes": 3, "accel_mps2": 0.0})

@@ -10,13 +10,16 @@ inputs changed (:mod:`.summaries`).
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
+from scenariominer.errors import ScenarioMinerError
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder
 from scenariominer.progress import NullProgress, Progress
@@ -109,9 +112,37 @@ def resolve_graph_id(store: ScenarioStore, model_id: str | None, loss: str | Non
     return "windows"
 
 
+#: Bumped when descriptions change for the same windows, so stored logs are described again.
+DESCRIPTION_VERSION = 2
+
+
 def _source(window_config: str, clustering_id: str, labels: Sequence[int]) -> str:
-    text = json.dumps([window_config, clustering_id, list(labels)])
+    text = json.dumps([DESCRIPTION_VERSION, window_config, clustering_id, list(labels)])
     return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+@functools.lru_cache(maxsize=64)
+def _meta_frame_rate(path: str) -> float | None:
+    from scenariominer.data.adapters.highd import HighDFiles
+    from scenariominer.data.adapters.highd.format import read_recording_meta
+
+    files = HighDFiles.from_path(Path(path))
+    return None if files is None else float(read_recording_meta(files.recording_meta).frame_rate_hz)
+
+
+def _recording_frame_rate(store: ScenarioStore, log_id: str) -> float | None:
+    """Frame rate of the highD-format recording a log came from (``None``: not one, or unreadable).
+
+    Frames cited in descriptions must be the recording's own (SUMO-made recordings run at 10 Hz,
+    real highD at 25 Hz).
+    """
+    try:
+        meta = store.log_meta(log_id)
+        if meta.dataset != "highd" or not meta.source_path:
+            return None
+        return _meta_frame_rate(str(meta.source_path))
+    except (OSError, LookupError, ValueError, ScenarioMinerError):  # no such log or no readable meta
+        return None
 
 
 def build_store_graph(
@@ -150,7 +181,9 @@ def build_store_graph(
                     if cid
                     else None
                 )
-                descs = describe_windows(ws, clusters, s.describe)
+                rate = _recording_frame_rate(store, lid)
+                describe = s.describe if rate is None else replace(s.describe, highd_frame_rate_hz=rate)
+                descs = describe_windows(ws, clusters, describe)
                 els = graph_elements(descs, graph_id)
                 e_texts = [e.text for e in els.entities if e.kind in EMBEDDED_ENTITIES]
                 r_texts = [r.text for r in els.relationships if r.kind in EMBEDDED_RELATIONS]

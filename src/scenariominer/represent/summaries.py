@@ -3,7 +3,8 @@
 Language-model calls are spent only here, per cluster and per community, never per sample:
 
 * **cluster summary**: the ``n_neighbours`` (5) samples nearest to the cluster's centre in the
-  trajectory embedding (ranked through :func:`scenariominer.retrieval.rank`);
+  trajectory embedding (Euclidean distance in the latent space, through
+  :func:`scenariominer.retrieval.top_k`);
 * **cluster contrast**: ``n_contrast`` (5) samples drawn at random (seeded) from the other clusters,
   compared with the cluster's summary (one call per cluster, not one per pair of clusters);
 * **community report**: the counted facts and some relationships of a Leiden community (the
