@@ -164,6 +164,26 @@ def test_a_failing_sumo_is_reported_per_recording_and_the_batch_goes_on(
     assert json.loads((out / MANIFEST_FILE).read_text())["recordings"][1]["written"] is False
 
 
+def test_a_failed_rerun_keeps_the_older_recording(tmp_path: Path) -> None:
+    tiny = HighwaySettings(
+        recordings=1, minutes=0.25, variety="fixed", lanes=2, section_m=400.0, warmup_s=30.0
+    )
+    first = simulate_highway_set(tmp_path, tiny)
+    assert first.recordings[0].ok
+    before = {p.name: p.read_bytes() for p in tmp_path.glob("01_*.csv")}
+    assert len(before) == 5
+    # 3 simulated seconds: nobody reaches the section 600 m downstream -> the conversion fails
+    again = simulate_highway_set(
+        tmp_path, HighwaySettings(**{**tiny.__dict__, "minutes": 0.05, "warmup_s": 0.0}), overwrite=True
+    )
+    assert not again.recordings[0].ok
+    assert "no vehicle drove through the recorded section" in again.recordings[0].error
+    assert {p.name: p.read_bytes() for p in tmp_path.glob("01_*.csv")} == before
+    entry = json.loads((tmp_path / MANIFEST_FILE).read_text())["recordings"][0]
+    assert entry["written"] is True and entry["record_s"] == 15.0
+    assert "no vehicle drove through" in entry["last_attempt_error"]
+
+
 def test_a_missing_sumo_program_is_named(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     # sumolib.checkBinary answers the bare name when it finds nothing
     monkeypatch.setattr("sumolib.checkBinary", lambda name, bindir=None: f"{name}-absent-for-this-test")

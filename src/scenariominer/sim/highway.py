@@ -127,7 +127,11 @@ def _sumo_version(sumo: str) -> str:
 def _one(
     scenario: HighwayScenario, out_dir: Path, binaries: SumoBinaries, keep_outputs: bool, progress: Progress
 ) -> RecordingResult:
-    """Simulate and write one recording; a :class:`HighwaySimError` becomes a failed result."""
+    """Simulate and write one recording; a :class:`HighwaySimError` becomes a failed result.
+
+    The files are written into ``sumo/NN/staged`` first and moved into ``out_dir`` only when all
+    of them are complete, so a failure leaves no partial recording (and an older one in place).
+    """
     rec = scenario.recording_id
     work = out_dir / "sumo" / f"{rec:02d}"
     if work.exists():
@@ -149,10 +153,14 @@ def _one(
         run_sumo(scenario, net, binaries, work, on_step=on_step)
         t1 = time.perf_counter()
         progress.advance(max(total - 1 - done, 0), "writing the recording")
-        converted = convert_run(scenario, net, work / FCD_FILE, work / LANE_CHANGE_FILE, out_dir)
+        staged = work / "staged"
+        converted = convert_run(scenario, net, work / FCD_FILE, work / LANE_CHANGE_FILE, staged)
+        for path in sorted(staged.iterdir()):  # all five files, each replaced atomically
+            path.replace(out_dir / path.name)
+        staged.rmdir()
         t2 = time.perf_counter()
         progress.advance(1, f"{converted.n_vehicles} vehicles")
-    except HighwaySimError as exc:
+    except (HighwaySimError, ValueError, OSError) as exc:
         return RecordingResult(rec, scenario, ok=False, error=str(exc))
     finally:
         progress.finish()
@@ -174,6 +182,40 @@ def _one(
         sim_s=round(t1 - t0, 2),
         convert_s=round(t2 - t1, 2),
     )
+
+
+def _write_manifest(
+    root: Path, settings: HighwaySettings, version: str, results: tuple[RecordingResult, ...]
+) -> None:
+    """Write ``highway_sim.json``; entries of recordings this run did not touch are kept."""
+    path = root / MANIFEST_FILE
+    entries: dict[int, object] = {}
+    if path.is_file():
+        try:
+            old = json.loads(path.read_text(encoding="utf-8"))
+            entries = {int(e["recording_id"]): e for e in old.get("recordings", [])}
+        except (ValueError, KeyError, TypeError, AttributeError):
+            entries = {}  # an unreadable manifest is replaced
+    for r in results:
+        before = entries.get(r.recording_id)
+        if not r.ok and isinstance(before, dict) and before.get("written"):
+            before["last_attempt_error"] = r.error  # the older recording is still in place
+            continue
+        entries[r.recording_id] = {
+            **r.scenario.to_json(),
+            "seed": settings.seed,
+            "variety": settings.variety,
+            "written": r.ok,
+            "error": r.error,
+            "vehicles": r.n_vehicles,
+        }
+    manifest = {
+        "generator": "scenariominer simulate highway",
+        "sumo_version": version,
+        "settings": {k: getattr(settings, k) for k in settings.__dataclass_fields__},
+        "recordings": [entries[k] for k in sorted(entries)],
+    }
+    path.write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
 
 
 def simulate_highway_set(
@@ -216,16 +258,7 @@ def simulate_highway_set(
     version = _sumo_version(binaries.sumo)
     t0 = time.perf_counter()
     results = tuple(_one(s, root, binaries, keep_sumo_outputs, progress) for s in scenarios)
-    manifest = {
-        "generator": "scenariominer simulate highway",
-        "sumo_version": version,
-        "settings": {k: getattr(settings, k) for k in settings.__dataclass_fields__},
-        "recordings": [
-            {**r.scenario.to_json(), "written": r.ok, "error": r.error, "vehicles": r.n_vehicles}
-            for r in results
-        ],
-    }
-    (root / MANIFEST_FILE).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+    _write_manifest(root, settings, version, results)
     return HighwaySetResult(
         out_dir=root,
         settings=settings,

@@ -168,6 +168,11 @@ def _kept_rows(scenario: HighwayScenario, net: HighwayNetwork, fcd: Path) -> _Ro
         & (left_index < net.max_lanes)
         & (np.char.startswith(lane, "hw") | np.char.startswith(lane, ":"))
     )
+    if not inside.any():
+        raise HighwaySimError(
+            f"recording {scenario.recording_id:02d}: no vehicle drove through the recorded section "
+            f"(demand {max(scenario.demand_vph):.0f} veh/h, {scenario.record_s:.0f} s recorded)"
+        )
     ids = cols["id"].astype(str)[inside]
     frame = frame[inside]
     # highD ids in order of entry (first frame, then SUMO id); first unbroken run of frames only.
@@ -345,8 +350,8 @@ def convert_run(
     rows = _kept_rows(scenario, net, fcd)
     if rows.vid.size == 0:
         raise HighwaySimError(
-            f"recording {scenario.recording_id:02d}: no vehicle drove through the recorded section "
-            f"(demand {max(scenario.demand_vph):.0f} veh/h, {scenario.record_s:.0f} s recorded)"
+            f"recording {scenario.recording_id:02d}: no vehicle stayed {MIN_TRACK_FRAMES} frames in the "
+            f"recorded section ({scenario.record_s:.0f} s recorded)"
         )
     vehicles = _vehicles(rows)
     w = net.lane_width_m

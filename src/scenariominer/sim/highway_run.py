@@ -246,12 +246,17 @@ def run_sumo(
             )
             assert proc.stdout is not None
             tail = b""
-            while chunk := proc.stdout.read(256):
-                tail = (tail + chunk)[-256:]
-                steps = _STEP_RE.findall(tail)
-                if steps and on_step is not None:
-                    on_step(float(steps[-1]))
-            code = proc.wait()
+            try:
+                while chunk := proc.stdout.read(256):
+                    tail = (tail + chunk)[-256:]
+                    steps = _STEP_RE.findall(tail)
+                    if steps and on_step is not None:
+                        on_step(float(steps[-1]))
+                code = proc.wait()
+            except BaseException:  # interrupted (Ctrl-C, a failing callback): leave no SUMO behind
+                proc.kill()
+                proc.wait()
+                raise
     except OSError as exc:
         raise HighwaySimError(f"cannot start SUMO ({binaries.sumo}): {exc}") from None
     if code != 0:
