@@ -236,3 +236,27 @@ def test_zero_or_negative_sizes_are_repaired_with_a_note() -> None:
     assert "set length_m of 1 row(s) from zero or negative to 0.1 m" in log.notes
     assert "set width_m of 1 row(s) from zero or negative to 0.1 m" in log.notes
     assert log.n_frames == 4 and log.length_m[0, 1] == 0.1 and log.width_m[0, 2] == 0.1
+
+
+def test_an_ego_given_by_id_among_short_category_names_keeps_its_full_category() -> None:
+    # every row "TRUCK" (5 characters): the ego's category must not be cut to "EGO_V"
+    cols = _rows(
+        {"7": ("TRUCK", np.arange(5), np.arange(5.0)), "8": ("TRUCK", np.arange(5), np.arange(5.0) + 20)}
+    )
+    x = cols["x"]
+    log = build_log(
+        log_id="L",
+        track_id=cols["track_id"],
+        category=cols["category"],
+        timestamp_ns=cols["ts"],
+        fields={
+            "x_m": x,
+            "y_m": np.zeros_like(x),
+            "yaw_rad": np.zeros_like(x),
+            "length_m": np.full_like(x, 12.0),
+            "width_m": np.full_like(x, 2.5),
+        },
+        ego_track_id="7",
+        source="test.csv",
+    )
+    assert log.categories.tolist() == ["EGO_VEHICLE", "TRUCK"]

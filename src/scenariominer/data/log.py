@@ -379,7 +379,7 @@ def build_log(
         ego_track_id = str(ego_ids[0])
     elif not np.any(tid == ego_track_id):
         raise LogFormatError(source, f"ego track {ego_track_id!r} does not occur in the data")
-    cat[tid == ego_track_id] = EGO_CATEGORY
+    cat = np.where(tid == ego_track_id, EGO_CATEGORY, cat)  # widens a short dtype (all "TRUCK")
 
     # Drop rows whose geometry is unusable (documented repair; preprocessing interpolates the gap).
     finite = np.ones(m, dtype=bool)
