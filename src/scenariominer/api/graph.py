@@ -37,7 +37,7 @@ class GraphBuildRequest:
             with ``loss`` if given; ``windows`` when the store has no model).
         loss: ``hausdorff`` or ``mse`` to pick the latest model of that loss.
         summaries: ask the language model for cluster summaries, contrasts and community reports.
-        resolutions: Leiden resolutions, coarse to fine (default ``(0.05, 0.3, 1.0)``).
+        resolutions: Leiden resolutions, coarse to fine (default ``(0.5, 0.85, 1.0)``).
     """
 
     model_id: str | None = None
