@@ -43,7 +43,11 @@ def _report_json(report: HighwaySetResult) -> str:
 
 
 def render_report(report: HighwaySetResult) -> None:
-    """Print one line per recording (failures on stderr) and the totals."""
+    """Print one row per recording (failures on stderr) and the totals.
+
+    Columns: road (main-road lanes, on-ramp, lane drop), speed limit, mean demand, truck share,
+    vehicles written, lane boundaries crossed left/right, multi-lane manoeuvres, SUMO seconds.
+    """
     from rich.table import Table
 
     for r in report.recordings:
@@ -52,41 +56,25 @@ def render_report(report: HighwaySetResult) -> None:
                 f"[red]failed[/red] recording {r.recording_id:02d}: {safe(r.error)}", soft_wrap=True
             )
     table = Table(title=f"simulated highway recordings in {safe(report.out_dir)}", title_justify="left")
-    for name in (
-        "rec",
-        "lanes",
-        "limit",
-        "demand",
-        "trucks",
-        "ramp",
-        "drop",
-        "vehicles",
-        "left",
-        "right",
-        "multi",
-        "sim s",
-    ):
-        table.add_column(name, justify="right")
+    for name in ("rec", "road", "km/h", "veh/h", "trucks", "vehicles", "left", "right", "multi", "sim s"):
+        table.add_column(name, justify="left" if name == "road" else "right", no_wrap=name == "road")
     for r in report.recordings:
         if not r.ok:
             continue
         s = r.scenario
-        limit = "none" if s.speed_limit_kmh is None else f"{s.speed_limit_kmh:.0f}"
-        mean_vph = sum(s.demand_vph) / len(s.demand_vph)
+        road = f"{s.lanes}" + (" ramp" if s.on_ramp else "") + (" drop" if s.lane_drop else "")
         multi = sum(n for k, n in r.manoeuvres_by_lanes.items() if k >= 2)
         table.add_row(
             f"{r.recording_id:02d}",
-            f"{s.lanes}" + ("+1" if s.on_ramp else ""),
-            limit,
-            f"{mean_vph:.0f}",
+            road,
+            "none" if s.speed_limit_kmh is None else f"{s.speed_limit_kmh:.0f}",
+            f"{sum(s.demand_vph) / len(s.demand_vph):.0f}",
             f"{100 * s.truck_share:.0f}%",
-            "yes" if s.on_ramp else "-",
-            "yes" if s.lane_drop else "-",
             str(r.n_vehicles),
             str(r.lane_changes_left),
             str(r.lane_changes_right),
             str(multi),
-            f"{r.sim_s:.1f}",
+            f"{r.sim_s:.0f}",
         )
     out = console()
     out.print(table)
