@@ -15,7 +15,9 @@ from scenariominer.sim.highway import MANIFEST_FILE, HighwaySetResult, simulate_
 from scenariominer.sim.highway_scenario import HighwaySettings, HighwaySimError
 from scenariominer.sim.highway_truth import read_highway_truth
 
-pytest.importorskip("sumolib", reason="the sim extra (SUMO) is not installed")
+sumolib = pytest.importorskip("sumolib", reason="the sim extra (SUMO) is not installed")
+if not Path(sumolib.checkBinary("sumo")).is_file():
+    pytest.skip("SUMO's sumo program is not installed (eclipse-sumo)", allow_module_level=True)
 
 # 3 lanes + acceleration lane, no speed limit, dense traffic: lane changes both ways in a minute.
 SMALL = HighwaySettings(
