@@ -219,3 +219,15 @@ def test_cli_simulates_and_rejects_a_bad_argument(tmp_path: Path) -> None:
     assert table.exit_code == 0, table.output
     assert "1 recording(s) written, 0 failed" in table.output
     assert f"scenariominer ingest {tmp_path / 'y'}" in table.output.replace("\n", "")
+
+
+def test_the_set_ingests_like_real_highd_recordings(sim_set: HighwaySetResult, tmp_path: Path) -> None:
+    from scenariominer import api
+
+    store = api.open_store(tmp_path / "store")
+    report = api.ingest([sim_set.out_dir], store)  # the ground-truth CSVs beside them are not logs
+    assert not report.failed and report.n_ingested == 2
+    ids = store.log_ids()
+    assert report.n_logs_ingested == len(ids) > 0
+    assert all(i.startswith(("highd-01-ego", "highd-02-ego")) for i in ids)
+    assert report.store.categories["EGO_VEHICLE"] == len(ids)
