@@ -18,17 +18,19 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from scenariominer.errors import ScenarioMinerError
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder
 from scenariominer.progress import NullProgress, Progress
 from scenariominer.represent.cluster import latest_clustering, load_labels
-from scenariominer.represent.describe import DescribeSettings, describe_windows
+from scenariominer.represent.describe import DescribeSettings, WindowDescription, describe_windows
 from scenariominer.represent.graph import (
     EMBEDDED_ENTITIES,
     EMBEDDED_RELATIONS,
     CommunityLevel,
+    GraphElements,
     graph_elements,
     graph_logs,
     leiden_communities,
@@ -52,6 +54,8 @@ __all__ = [
 COMMUNITIES_TABLE = "graph_communities"
 _SCHEMA = 1
 _BATCH_LOGS = 64
+
+Float32Array = NDArray[np.float32]
 
 
 @dataclass(frozen=True)
@@ -125,6 +129,45 @@ def _source(window_config: str, clustering_id: str, labels: Sequence[int]) -> st
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
+def _embed_batch(
+    described: dict[str, tuple[list[WindowDescription], GraphElements]],
+    embedder: Embedder,
+    failed: list[tuple[str, str]],
+) -> dict[str, tuple[list[WindowDescription], GraphElements, dict[str, Float32Array]]]:
+    """Vectors of each log's descriptions, entities and relationships, each distinct text embedded once.
+
+    Lanes, manoeuvres and traffic states repeat across the logs of a batch, so one call over the
+    distinct texts replaces one per log (about a third of the texts are distinct).
+    """
+    texts: dict[str, tuple[list[str], list[str], list[str]]] = {}
+    for lid, (descs, els) in described.items():
+        texts[lid] = (
+            [d.text for d in descs],
+            [e.text for e in els.entities if e.kind in EMBEDDED_ENTITIES],
+            [r.text for r in els.relationships if r.kind in EMBEDDED_RELATIONS],
+        )
+    unique = sorted({t for parts in texts.values() for part in parts for t in part})
+    try:
+        vectors = embedder.embed(unique).vectors if unique else np.zeros((0, 0), np.float32)
+    except Exception as exc:  # noqa: BLE001 -- the batch's logs are reported, later batches go on
+        failed.extend((lid, f"{type(exc).__name__}: {exc}") for lid in described)
+        return {}
+    row = {t: i for i, t in enumerate(unique)}
+    out = {}
+    for lid, (descs, els) in described.items():
+        d_t, e_t, r_t = texts[lid]
+        out[lid] = (
+            descs,
+            els,
+            {
+                "samples": vectors[[row[t] for t in d_t]],
+                "entities": vectors[[row[t] for t in e_t]],
+                "relationships": vectors[[row[t] for t in r_t]],
+            },
+        )
+    return out
+
+
 @functools.lru_cache(maxsize=64)
 def _meta_frame_rate(path: str) -> float | None:
     from scenariominer.data.adapters.highd import HighDFiles
@@ -176,7 +219,7 @@ def build_store_graph(
     bar.start("describing logs", total=len(todo))
     for b in range(0, len(todo), _BATCH_LOGS):
         batch = todo[b : b + _BATCH_LOGS]
-        by_log = {}
+        described = {}
         for lid in batch:
             try:
                 ws = load_windows(store, log_ids=[lid])
@@ -188,23 +231,12 @@ def build_store_graph(
                 rate = _recording_frame_rate(store, lid)
                 describe = s.describe if rate is None else replace(s.describe, highd_frame_rate_hz=rate)
                 descs = describe_windows(ws, clusters, describe)
-                els = graph_elements(descs, graph_id)
-                e_texts = [e.text for e in els.entities if e.kind in EMBEDDED_ENTITIES]
-                r_texts = [r.text for r in els.relationships if r.kind in EMBEDDED_RELATIONS]
-                vecs = embedder.embed([d.text for d in descs] + e_texts + r_texts).vectors
-                n_d, n_e = len(descs), len(e_texts)
-                by_log[lid] = (
-                    descs,
-                    els,
-                    {
-                        "samples": vecs[:n_d],
-                        "entities": vecs[n_d : n_d + n_e],
-                        "relationships": vecs[n_d + n_e :],
-                    },
-                )
+                described[lid] = (descs, graph_elements(descs, graph_id))
             except Exception as exc:  # noqa: BLE001 -- one bad log must not stop the batch
                 failed.append((lid, f"{type(exc).__name__}: {exc}"))
-            bar.advance()
+                bar.advance()
+        by_log = _embed_batch(described, embedder, failed)
+        bar.advance(len(described))
         save_log_graph(store, graph_id, by_log, embedder.model, wanted)
     graph = load_graph(store, graph_id)
     levels = leiden_communities(graph.elements, s.resolutions, s.seed)
