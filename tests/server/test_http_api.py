@@ -232,3 +232,28 @@ def test_case_base_add_list_show_remove(client: httpx.Client) -> None:
     assert outside.status_code == 403
     assert client.post("/api/cbr/cases/remove", json={"case_ids": [case_id]}).json() == {"removed": 1}
     assert case_id not in {c["case_id"] for c in client.get("/api/cbr/cases").json()}
+
+
+def test_graph_build_and_ask_jobs_rank_windows_and_draw_them(client: httpx.Client) -> None:
+    # windows of the synthetic AV2 logs, their graph (no LLM summaries), then a ranked question
+    for path, body in (
+        ("/api/jobs/embed/windows", {}),
+        ("/api/jobs/graph/build", {"summaries": False}),
+    ):
+        job = client.post(path, json=body).json()
+        done = _wait_state(client, job["id"], {"succeeded", "failed"}, timeout_s=300)
+        assert done["state"] == "succeeded", done["error"]
+    built = done["result"]
+    assert built["n_samples"] > 0 and built["n_llm_calls"] == 0
+    job = client.post(
+        "/api/jobs/ask", json={"question": "the ego brakes behind a car", "k": 2, "answer": False}
+    )
+    done = _wait_state(client, job.json()["id"], {"succeeded", "failed"}, timeout_s=120)
+    assert done["state"] == "succeeded", done["error"]
+    samples = done["result"]["result"]["samples"]
+    assert [s["rank"] for s in samples] == [1, 2]
+    assert done["result"]["result"]["llm_status"] == "no model"
+    picture = client.get(f"/api/jobs/{job.json()['id']}/picture")
+    assert picture.status_code == 200 and picture.content[:8] == b"\x89PNG\r\n\x1a\n"
+    refused = client.post("/api/jobs/ask", json={"question": "x", "k": 0})
+    assert refused.status_code == 422

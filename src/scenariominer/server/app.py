@@ -492,6 +492,26 @@ def _add_job_routes(router: APIRouter, jobs: JobManager, settings: ServerSetting
         """Run and score the case-based reasoning grid (use case ``eval cbr``)."""
         return submit("eval_cbr", body)
 
+    @router.post("/jobs/simulate/highway", tags=["jobs"], status_code=202)
+    def simulate_highway(body: m.SimulateHighwayJob) -> m.JobModel:
+        """Simulate highway traffic with SUMO (use case ``simulate highway``) into a data-root folder."""
+        return submit("simulate_highway", body, ("out_dir",))
+
+    @router.post("/jobs/graph/build", tags=["jobs"], status_code=202)
+    def graph_build(body: m.GraphBuildJob) -> m.JobModel:
+        """Describe windows, build the knowledge graph and its summaries (use case ``graph build``)."""
+        return submit("graph_build", body)
+
+    @router.post("/jobs/ask", tags=["jobs"], status_code=202)
+    def ask(body: m.AskJob) -> m.JobModel:
+        """Answer a question over the graph (use case ``ask``); top samples at /api/jobs/{id}/picture."""
+        return submit("ask", body)
+
+    @router.post("/jobs/eval/retrieval", tags=["jobs"], status_code=202)
+    def eval_retrieval(body: m.EvalRetrievalJob) -> m.JobModel:
+        """Score graph vs vector retrieval against simulator truth (use case ``eval retrieval``)."""
+        return submit("eval_retrieval", body)
+
     @router.get("/jobs/{job_id}/picture", tags=["jobs"], response_class=FileResponse)
     def job_picture(job_id: Annotated[str, _id_path()]) -> FileResponse:
         """The picture a finished job drew (the rollout check of ``recommend``)."""

@@ -164,6 +164,43 @@ class SynthJob(_Strict):
     seed: int = Field(default=0, ge=0)
 
 
+class SimulateHighwayJob(_Strict):
+    """Simulate highway traffic with SUMO into highD-format recordings (a folder inside the data roots)."""
+
+    out_dir: str = PathStr
+    recordings: int = Field(default=6, ge=1, le=100)
+    minutes: float = Field(default=10.0, gt=0, le=240)
+    seed: int = Field(default=1, ge=0)
+    overwrite: bool = False
+
+
+class GraphBuildJob(_Strict):
+    """Describe the windows, build the knowledge graph, its communities and (optionally) LLM summaries."""
+
+    model_id: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+    loss: str | None = Field(default=None, pattern="^(hausdorff|mse)$")
+    summaries: bool = True
+
+
+class AskJob(_Strict):
+    """A natural-language question over the knowledge graph."""
+
+    question: str = Field(min_length=1, max_length=2000)
+    model_id: str | None = Field(default=None, max_length=MAX_ID_CHARS)
+    loss: str | None = Field(default=None, pattern="^(hausdorff|mse)$")
+    k: int = Field(default=5, ge=1, le=50)
+    graph: bool = Field(default=True, description="false: plain vector search over the descriptions")
+    answer: bool = Field(default=True, description="false: rank only, no model loaded")
+
+
+class EvalRetrievalJob(_Strict):
+    """Score graph and vector retrieval against the simulator's ground truth (shipped queries)."""
+
+    losses: list[str] = Field(default=["hausdorff", "mse"], min_length=1, max_length=2)
+    k_max: int = Field(default=100, ge=5, le=10_000)
+    answers: bool = False
+
+
 class EmbedWindowsJob(_Strict):
     """Cut trajectory windows of some or all logs."""
 

@@ -38,6 +38,10 @@ USE_CASE_ROUTES: dict[str, tuple[str, str]] = {
     "cbr_build": ("POST", "/api/jobs/cbr/build"),
     "recommend": ("POST", "/api/jobs/recommend"),
     "evaluate_cbr": ("POST", "/api/jobs/eval/cbr"),
+    "simulate_highway": ("POST", "/api/jobs/simulate/highway"),
+    "build_graph": ("POST", "/api/jobs/graph/build"),
+    "ask": ("POST", "/api/jobs/ask"),
+    "evaluate_retrieval": ("POST", "/api/jobs/eval/retrieval"),
 }
 
 #: api functions without a route, and why.

@@ -168,6 +168,46 @@ def _synth(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) 
     return api.synth(p["out_dir"], p["n"], seed=p.get("seed", 0), progress=progress)
 
 
+def _simulate_highway(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+    from scenariominer.sim.highway_scenario import HighwaySettings
+
+    settings = HighwaySettings(recordings=p["recordings"], minutes=p["minutes"], seed=p["seed"])
+    request = api.HighwaySimRequest(Path(p["out_dir"]), settings, overwrite=p.get("overwrite", False))
+    return api.simulate_highway(request, progress=progress)
+
+
+def _graph_build(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+
+    request = api.GraphBuildRequest(model_id=p.get("model_id"), loss=p.get("loss"), summaries=p["summaries"])
+    return api.build_graph(store, request, cfg, progress=progress)
+
+
+def _ask(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+
+    out = picture_path(store.root, progress.job_id)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    request = api.AskRequest(
+        question=p["question"],
+        model_id=p.get("model_id"),
+        loss=p.get("loss"),
+        k=p["k"],
+        graph=p["graph"],
+        answer=p["answer"],
+        picture=out,
+    )
+    return api.ask(store, request, cfg)
+
+
+def _eval_retrieval(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+
+    request = api.RetrievalEvalRequest(losses=tuple(p["losses"]), k_max=p["k_max"], answers=p["answers"])
+    return api.evaluate_retrieval(store, request, cfg, progress=progress)
+
+
 def _embed_windows(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
     from scenariominer import api
 
@@ -261,7 +301,7 @@ def _eval_cbr(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgres
 
 
 def picture_path(store_root: Path, job_id: str) -> Path:
-    """Where a job's picture (the rollout check of ``recommend``) is written."""
+    """Where a job's picture (the rollout check of ``recommend``, the top samples of ``ask``) is written."""
     return Path(store_root) / "server" / "pictures" / f"{job_id}.png"
 
 
@@ -285,6 +325,10 @@ _RUNNERS: dict[str, _Runner] = {
     "cbr_build": _cbr_build,
     "recommend": _recommend,
     "eval_cbr": _eval_cbr,
+    "simulate_highway": _simulate_highway,
+    "graph_build": _graph_build,
+    "ask": _ask,
+    "eval_retrieval": _eval_retrieval,
 }
 
 #: Every job kind the server runs.
