@@ -6,6 +6,7 @@ object API with the Agg canvas (no pyplot state, no backend switch at import).
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -47,7 +48,7 @@ def _figure(title: str) -> tuple[Any, Any]:
     figure_mod = require("matplotlib.figure", extra="represent", purpose="embedding plots (embed plot)")
     fig = figure_mod.Figure(figsize=(7.0, 6.0), dpi=110)
     ax = fig.add_subplot(1, 1, 1)
-    ax.set_title(title, fontsize=10)
+    ax.set_title(textwrap.fill(title, 70), fontsize=9)  # long model ids would run off the figure
     ax.set_xticks([])
     ax.set_yticks([])
     return fig, ax
