@@ -186,7 +186,7 @@ def render_retrieval(ev: RetrievalEvaluation) -> None:
     s = Table(title="averages over scored queries (paper: prec@5 80.2 %)", title_justify="left")
     rows = design_summary(ev)
     for col in rows[0] if rows else []:
-        s.add_column(col, justify="left" if col == "design" else "right")
+        s.add_column(col, justify="left" if col == "design" else "right", no_wrap=col == "design")
     for row in rows:
         s.add_row(*(safe(v) if isinstance(v, str) else _pct(v) for v in row.values()))
     out.print(s)
