@@ -136,3 +136,31 @@ def test_asking_an_unbuilt_graph_names_the_command(tmp_path: Path) -> None:
     store = ScenarioStore.open(tmp_path / "store")
     with pytest.raises(GraphNotBuiltError, match="graph build"):
         open_graph(store, "windows")
+
+
+def test_a_garbled_summary_answer_costs_that_summary_only(tmp_path: Path) -> None:
+    store = _store(tmp_path, {PLANTED: "left", **FOLLOWING})
+    build_store_graph(store, "windows", EMBEDDER)
+    graph = load_graph(store, "windows")
+    wids = np.asarray([str(s["window_id"]) for s in graph.samples])
+    z = np.asarray([[0.0, 0.0], [5.0, 5.0], [1.0, 0.0], [0.0, 1.0], [9.0, 9.0], [9.5, 9.0]], np.float32)
+    labels = np.asarray([0, 1, 0, 0, 1, 1], np.int64)
+    # a raw line break inside a JSON string (small models write them) is accepted
+    summary = '{"title": "steady\nfollowing", "traffic": "moderate", "behaviour": "lanes kept"}'
+    contrast = json.dumps({"others": "lane changes", "difference": "no lane change"})
+    garbage = "the cluster is about cars"  # no JSON: the client's two attempts both fail
+    backend = ScriptedBackend([garbage, garbage, summary, contrast])
+    settings = SummarySettings(n_neighbours=2, n_contrast=1)
+    failures: list[tuple[str, str]] = []
+    out = cluster_summaries(
+        store, graph, wids, z, labels, ChatClient(backend), EMBEDDER, settings, failures=failures
+    )
+    assert [(s.kind, s.subject) for s in out] == [("cluster", "1"), ("contrast", "1")]
+    assert out[0].title == "steady\nfollowing"
+    assert [subject for subject, _why in failures] == ["cluster 0 summary"]
+    assert "not valid JSON" in failures[0][1]
+    # the next build asks only for what is missing
+    again = cluster_summaries(
+        store, graph, wids, z, labels, ChatClient(ScriptedBackend([summary, contrast])), EMBEDDER, settings
+    )
+    assert [(s.subject, s.cached) for s in again] == [("0", False), ("0", False), ("1", True), ("1", True)]

@@ -40,6 +40,8 @@ def render_build(r: GraphBuildReport) -> None:
     out = console()
     for log_id, why in r.failed:
         out.print(f"[red]failed[/red] {safe(log_id)}: {safe(why)}", highlight=False)
+    for subject, why in r.failed_summaries:
+        out.print(f"[yellow]no summary[/yellow] {safe(subject)}: {safe(why)}", highlight=False)
     levels = ", ".join(str(n) for n in r.communities_per_level)
     out.print(
         f"graph {safe(r.graph_id)}: {r.n_samples} samples of {r.n_logs} logs "

@@ -149,13 +149,14 @@ def _parse_json(text: str) -> Any:
     if not body:
         raise ValueError("the answer is empty")
     try:
-        return json.loads(body)
+        # strict=False: a raw newline or tab inside a string (small models write them) is kept
+        return json.loads(body, strict=False)
     except json.JSONDecodeError as exc:
         first_error = exc
     starts = [i for i in (body.find("{"), body.find("[")) if i >= 0]
     if starts:
         try:
-            value, _end = json.JSONDecoder().raw_decode(body, min(starts))
+            value, _end = json.JSONDecoder(strict=False).raw_decode(body, min(starts))
             return value
         except json.JSONDecodeError:
             pass

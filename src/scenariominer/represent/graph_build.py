@@ -95,6 +95,8 @@ class GraphBuildReport:
         n_summaries: cluster summaries, contrasts and community reports available.
         n_llm_calls: summaries asked now (the rest came from the store).
         failed: ``(log id, reason)`` of logs that could not be described.
+        failed_summaries: ``(summary, reason)`` of summaries the model did not give (a garbled
+            answer); asked again by the next build.
     """
 
     graph_id: str
@@ -108,6 +110,7 @@ class GraphBuildReport:
     n_summaries: int
     n_llm_calls: int
     failed: tuple[tuple[str, str], ...]
+    failed_summaries: tuple[tuple[str, str], ...] = ()
 
 
 def resolve_graph_id(store: ScenarioStore, model_id: str | None, loss: str | None) -> str:
@@ -251,12 +254,17 @@ def build_store_graph(
         }
     )
     summaries = []
+    summary_failures: list[tuple[str, str]] = []
     if client is not None and cid and labels is not None:
         wids, _logs, z = load_embeddings(store, graph_id, logs)
         lab = np.asarray([label_of.get(w, -1) for w in wids.tolist()], np.int64)
-        summaries += cluster_summaries(store, graph, wids, z, lab, client, embedder, s.summaries, bar)
+        summaries += cluster_summaries(
+            store, graph, wids, z, lab, client, embedder, s.summaries, bar, summary_failures
+        )
     if client is not None:
-        summaries += community_reports(store, graph, levels, client, embedder, s.summaries, bar)
+        summaries += community_reports(
+            store, graph, levels, client, embedder, s.summaries, bar, summary_failures
+        )
     return GraphBuildReport(
         graph_id=graph_id,
         clustering_id=cid,
@@ -269,6 +277,7 @@ def build_store_graph(
         n_summaries=len(summaries),
         n_llm_calls=sum(not x.cached for x in summaries),
         failed=tuple(failed),
+        failed_summaries=tuple(summary_failures),
     )
 
 

@@ -23,9 +23,11 @@ import json
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import BaseModel
 
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder
@@ -34,6 +36,8 @@ from scenariominer.represent import graph_prompts as prompts
 from scenariominer.represent.graph import CommunityLevel, StoredGraph
 from scenariominer.retrieval import top_k
 from scenariominer.store import ScenarioStore
+
+_Out = TypeVar("_Out", bound=BaseModel)
 
 __all__ = [
     "SUMMARIES_TABLE",
@@ -151,6 +155,28 @@ def _sample_text(graph: StoredGraph) -> dict[str, str]:
     return {str(s["window_id"]): str(s["text"]) for s in graph.samples}
 
 
+def _chat(
+    client: ChatClient,
+    messages: Any,
+    model: type[_Out],
+    max_tokens: int,
+    subject: str,
+    failures: list[tuple[str, str]] | None,
+) -> _Out | None:
+    """The model's answer, or ``None`` with ``(subject, error)`` added to ``failures``.
+
+    A garbled answer (or a failing backend) costs that one summary, never the build; without a
+    ``failures`` list the error propagates.
+    """
+    try:
+        return client.chat(messages, model, max_tokens=max_tokens)
+    except Exception as exc:  # noqa: BLE001 -- reported per summary, the rest go on
+        if failures is None:
+            raise
+        failures.append((subject, f"{type(exc).__name__}: {exc}"))
+        return None
+
+
 def cluster_summaries(
     store: ScenarioStore,
     graph: StoredGraph,
@@ -161,6 +187,7 @@ def cluster_summaries(
     embedder: Embedder,
     settings: SummarySettings | None = None,
     progress: Progress | None = None,
+    failures: list[tuple[str, str]] | None = None,
 ) -> list[Summary]:
     """Summary and contrast of each cluster (``window_ids`` ``(W,)``, ``z`` ``(W, D)``, ``labels`` ``(W,)``).
 
@@ -187,11 +214,17 @@ def cluster_summaries(
         inputs = _hash(near_texts)
         summary = cache.get(key, inputs)
         if summary is None:
-            ans = client.chat(
+            ans = _chat(
+                client,
                 prompts.cluster_summary_messages(name, near_texts),
                 prompts.ClusterSummaryOut,
-                max_tokens=s.max_tokens,
+                s.max_tokens,
+                f"{name} summary",
+                failures,
             )
+            if ans is None:
+                bar.advance()
+                continue
             summary = Summary(
                 key,
                 "cluster",
@@ -213,11 +246,17 @@ def cluster_summaries(
             cinputs = _hash(summary.text, other_texts)
             contrast = cache.get(ckey, cinputs)
             if contrast is None:
-                ans2 = client.chat(
+                ans2 = _chat(
+                    client,
                     prompts.cluster_contrast_messages(name, summary.text, other_texts),
                     prompts.ClusterContrastOut,
-                    max_tokens=s.max_tokens,
+                    s.max_tokens,
+                    f"{name} contrast",
+                    failures,
                 )
+                if ans2 is None:
+                    bar.advance()
+                    continue
                 contrast = Summary(
                     ckey,
                     "contrast",
@@ -265,6 +304,7 @@ def community_reports(
     embedder: Embedder,
     settings: SummarySettings | None = None,
     progress: Progress | None = None,
+    failures: list[tuple[str, str]] | None = None,
 ) -> list[Summary]:
     """Reports of the largest communities of the chosen levels (unchanged communities are not re-asked)."""
     s = settings or SummarySettings()
@@ -285,9 +325,17 @@ def community_reports(
         inputs = _hash(sorted(members), facts)
         report = cache.get(key, inputs)
         if report is None:
-            ans = client.chat(
-                prompts.report_messages(subject, facts, rel_texts), prompts.ReportOut, max_tokens=s.max_tokens
+            ans = _chat(
+                client,
+                prompts.report_messages(subject, facts, rel_texts),
+                prompts.ReportOut,
+                s.max_tokens,
+                f"community {subject} report",
+                failures,
             )
+            if ans is None:
+                bar.advance()
+                continue
             report = Summary(
                 key, "report", subject, ans.title, f"{ans.summary} ({facts})", samples, tuple(members), False
             )
