@@ -11,9 +11,11 @@ import pytest
 
 from scenariominer import api
 from scenariominer.config import Config
+from scenariominer.config.tags import StitchConfig, TagConfig
 from scenariominer.data.log import Log, build_log
 from scenariominer.data.preprocess import preprocess
 from scenariominer.explain import pipeline
+from scenariominer.explain.categories import load_categories
 from scenariominer.explain.pipeline import LogStatus, analyze_store
 from scenariominer.explain.records import EMBEDDINGS_TABLE, EVENTS_TABLE, RUNS_TABLE, TAGS_TABLE
 from scenariominer.llm import ChatClient, ChatRequest, HashingEmbedder, ResponseCache
@@ -202,10 +204,15 @@ def test_bad_input_is_recorded_per_log(store: ScenarioStore, monkeypatch: pytest
     assert "ValueError: tag matrices exploded" in status[broken].error
     assert status["parked-ego"].status is LogStatus.NO_EGO_MOTION and status["parked-ego"].n_events == 0
     assert "never reaches" in "; ".join(status["parked-ego"].notes)
-    flash_events = store.read_table(EVENTS_TABLE, ["flash-guest"]).to_pylist()
-    assert [e["guest_id"] for e in flash_events] == ["ghost"]
-    assert "observed in only 2 frame(s)" in flash_events[0]["notes"]
+    # The two-frame flash is a ghost detection: dropped before tagging, the run says so.
+    assert store.read_table(EVENTS_TABLE, ["flash-guest"]).num_rows == 0
     runs = {r["log_id"]: r for r in store.read_table(RUNS_TABLE).to_pylist()}
+    assert "ghost detection" in runs["flash-guest"]["notes"]
+    # Without the tracker-noise repair it becomes an event whose note names the thin evidence.
+    no_stitch = Config(tags=TagConfig(stitch=StitchConfig(enabled=False)))
+    outcome = pipeline.analyze_log(store.load_log("flash-guest"), no_stitch, load_categories(""), None)
+    assert [r.guest_id for r in outcome.records] == ["ghost"]
+    assert "observed in only 2 frame(s)" in outcome.records[0].notes
     assert runs[broken]["status"] == "failed" and not runs[broken]["complete"]
     assert runs["parked-ego"]["status"] == "no_ego_motion" and runs["parked-ego"]["complete"]
     # The other synthetic logs and the flash log are analysed as usual.

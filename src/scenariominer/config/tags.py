@@ -10,24 +10,155 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+#: Key-object identification methods (``tags.keyident.method``).
+KEYIDENT_METHODS: tuple[str, ...] = ("tags", "counterfactual", "combined")
+
+
+@dataclass(frozen=True)
+class CounterfactualConfig:
+    """Counterfactual conflict search: which object would the ego have met had it not braked.
+
+    For each braking segment (a run of DECELERATING / STANDING_STILL frames of the ego that starts
+    at a speed of at least ``min_onset_speed_mps``), the ego is moved along its own driven path
+    (continued straight past its end) at its speed at braking onset, from its position at several
+    reference times, and every object is moved with constant velocity and turn rate; an object
+    whose predicted box overlaps a predicted ego box within ``max_gap_s`` is a candidate.
+
+    Attributes:
+        horizon_s: prediction horizon, seconds (5 s: a smooth yield starts 3-5 s before the conflict).
+        step_s: prediction time step, seconds (the log's 10 Hz).
+        min_onset_speed_mps: braking that starts slower than this (m/s) is not searched (creeping).
+        ref_before_s: the first reference time is this many seconds before the onset (the ego's
+            reaction delay: the object was already on its way when the driver decided to brake).
+        ref_step_s: reference times are this far apart, seconds ...
+        ref_after_s: ... up to this many seconds after the onset (or the end of the segment).
+        max_gap_s: ego and object boxes overlapping at times at most this far apart (seconds, a
+            predicted post-encroachment time) conflict; 0 would ask for a predicted collision.
+        margin_m: each box grows by this on every side (metres) when testing overlap.
+        max_range_m: objects farther than this from the ego at a reference time are ignored (metres).
+        ctrv_max_yaw_rate_radps: object yaw rates are clipped to ± this (rad/s) for prediction.
+        ref_weight: ranking cost per second of reference time after the onset.
+        late_weight: ranking cost per second an object is first seen after the onset.
+        gap_weight: ranking cost per second of the conflict's time gap.
+        max_late_s: objects first seen more than this many seconds after the onset are not candidates.
+        max_per_segment: candidates kept per braking segment, best ranked first (1: the key object).
+    """
+
+    horizon_s: float = 5.0
+    step_s: float = 0.1
+    min_onset_speed_mps: float = 2.0
+    ref_before_s: float = 0.5
+    ref_step_s: float = 0.5
+    ref_after_s: float = 3.0
+    max_gap_s: float = 1.5
+    margin_m: float = 0.3
+    max_range_m: float = 80.0
+    ctrv_max_yaw_rate_radps: float = 1.0
+    ref_weight: float = 0.5
+    late_weight: float = 1.0
+    gap_weight: float = 1.0
+    max_late_s: float = 1.0
+    max_per_segment: int = 1
+
+    def __post_init__(self) -> None:
+        if not 0 < self.step_s <= self.horizon_s:
+            raise ValueError("tags.keyident.counterfactual: need 0 < step_s <= horizon_s")
+        if self.ref_step_s <= 0:
+            raise ValueError("tags.keyident.counterfactual: ref_step_s must be > 0")
+        if self.max_per_segment < 1:
+            raise ValueError("tags.keyident.counterfactual: max_per_segment must be >= 1")
+        for name in (
+            "min_onset_speed_mps",
+            "ref_before_s",
+            "ref_after_s",
+            "max_gap_s",
+            "margin_m",
+            "max_range_m",
+            "ctrv_max_yaw_rate_radps",
+            "ref_weight",
+            "late_weight",
+            "gap_weight",
+            "max_late_s",
+        ):
+            if getattr(self, name) < 0:
+                raise ValueError(f"tags.keyident.counterfactual: {name} must be >= 0")
+
 
 @dataclass(frozen=True)
 class KeyIdentConfig:
-    """How key-object candidates (III-C) are merged into braking events.
+    """How key objects are identified (III-C) and their candidates merged into braking events.
 
     Attributes:
         max_gap_s: two candidate timestamps of the same object closer than this (seconds, measured
             between the timestamps) belong to one event; bridges a few frames where a tag flickers.
         min_duration_s: events shorter than this (seconds from first to last candidate timestamp)
             are dropped; 0 keeps every candidate, as in the paper.
+        method: ``"tags"`` (the paper: collision / trajectory-overlap tags while the ego brakes),
+            ``"counterfactual"`` (the conflict search of :class:`CounterfactualConfig`) or
+            ``"combined"`` (the tag events, plus the counterfactual key object of every braking
+            segment no tag event explains).
+        counterfactual: settings of the counterfactual conflict search.
     """
 
     max_gap_s: float = 1.0
     min_duration_s: float = 0.0
+    method: str = "combined"
+    counterfactual: CounterfactualConfig = field(default_factory=CounterfactualConfig)
 
     def __post_init__(self) -> None:
         if self.max_gap_s < 0 or self.min_duration_s < 0:
             raise ValueError("tags.keyident: max_gap_s and min_duration_s must be >= 0")
+        if self.method not in KEYIDENT_METHODS:
+            raise ValueError(
+                f"tags.keyident.method must be one of {list(KEYIDENT_METHODS)}, got {self.method!r}"
+            )
+
+
+@dataclass(frozen=True)
+class StitchConfig:
+    """Repair of tracker noise before tagging: id switches, ghost detections, dropped frames.
+
+    Attributes:
+        enabled: whether tracks are cleaned before tagging.
+        max_gap_s: a track ending and another starting at most this many seconds later (and at
+            least one frame later) may be one object whose id switched.
+        max_position_error_m: the new track's first position must lie within this distance
+            (metres) of the old track's last position extrapolated over the gap at its velocity ...
+        position_error_per_s_m: ... plus this many metres per second of gap (unknown acceleration).
+        max_speed_change_mps: ... its speed may differ by at most this (m/s) ...
+        max_size_change_m: ... and its length and width each by at most this (metres).
+        ghost_max_frames: a track observed in at most this many frames that is not stitched to
+            another is a ghost detection and is dropped (a real object stays in view longer).
+        ghost_max_speed_mps: a track whose median speed exceeds this (m/s, far above urban
+            traffic) is a ghost (boxes of different objects joined) and is dropped.
+        fill_gap_s: gaps inside a (stitched) track up to this many seconds are interpolated
+            linearly (dropped frames); longer gaps stay unobserved.
+    """
+
+    enabled: bool = True
+    max_gap_s: float = 1.5
+    max_position_error_m: float = 2.0
+    position_error_per_s_m: float = 2.0
+    max_speed_change_mps: float = 3.0
+    max_size_change_m: float = 1.5
+    ghost_max_frames: int = 3
+    ghost_max_speed_mps: float = 60.0
+    fill_gap_s: float = 1.5
+
+    def __post_init__(self) -> None:
+        if self.ghost_max_frames < 0:
+            raise ValueError("tags.stitch: ghost_max_frames must be >= 0")
+        for name in (
+            "max_gap_s",
+            "max_position_error_m",
+            "position_error_per_s_m",
+            "max_speed_change_mps",
+            "max_size_change_m",
+            "ghost_max_speed_mps",
+            "fill_gap_s",
+        ):
+            if getattr(self, name) < 0:
+                raise ValueError(f"tags.stitch: {name} must be >= 0")
 
 
 @dataclass(frozen=True)
@@ -69,7 +200,8 @@ class TagConfig:
         distance_far_m: box distance (metres) above which DistanceTag is FAR (paper: 50 m); between MEDIUM.
         overlap_high_s: window (seconds) of recorded future boxes for TrajOverlapTag HIGH (paper: 1.5 s).
         overlap_low_s: window (seconds) for TrajOverlapTag LOW (paper: 3 s).
-        keyident: merging of key-object candidates into events.
+        keyident: key-object identification and the merging of its candidates into events.
+        stitch: repair of tracker noise (id switches, ghosts, dropped frames) before tagging.
     """
 
     standing_speed_mps: float = 0.3
@@ -93,6 +225,7 @@ class TagConfig:
     overlap_high_s: float = 1.5
     overlap_low_s: float = 3.0
     keyident: KeyIdentConfig = field(default_factory=KeyIdentConfig)
+    stitch: StitchConfig = field(default_factory=StitchConfig)
 
     def __post_init__(self) -> None:
         problems = []

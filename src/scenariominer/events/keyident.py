@@ -12,6 +12,7 @@ cells, not per frame.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,6 +50,11 @@ class KeyEvent:
         peak_traj_overlap: highest TrajOverlapTag over the candidate timestamps.
         min_ttc_s: smallest CTRV time-to-collision in the window, seconds (``inf`` if none).
         min_distance_m: smallest box-to-box distance to the ego in the window, metres.
+        method: what found the event: ``"tags"`` (collision / overlap tags) or ``"counterfactual"``
+            (a predicted conflict had the ego not braked; see :mod:`scenariominer.events.counterfactual`).
+        conflict_s: for a counterfactual event, seconds from the braking onset to the predicted
+            conflict; NaN otherwise.
+        aliases: other track ids of the same object (tracks stitched into this one after id switches).
     """
 
     log_id: str
@@ -61,6 +67,9 @@ class KeyEvent:
     peak_traj_overlap: TrajOverlapTag
     min_ttc_s: float
     min_distance_m: float
+    method: str = "tags"
+    conflict_s: float = math.nan
+    aliases: tuple[str, ...] = ()
 
     @property
     def duration_s(self) -> float:

@@ -32,9 +32,10 @@ import pyarrow as pa
 
 from scenariominer.config import Config
 from scenariominer.data.log import Log
+from scenariominer.events.counterfactual import identify_key_objects
 from scenariominer.events.criticality import event_criticality
 from scenariominer.events.describe import DESCRIPTION_VERSION, describe_segments
-from scenariominer.events.keyident import KeyEvent, find_key_objects
+from scenariominer.events.keyident import KeyEvent
 from scenariominer.events.segments import pair_tags, segment_pair
 from scenariominer.explain.baseline import BASELINE_VERSION, rule_candidates
 from scenariominer.explain.categories import NOT_RELEVANT, CategorySet, load_categories
@@ -57,6 +58,7 @@ from scenariominer.progress import NullProgress, Progress, step
 from scenariominer.store import ScenarioStore, UnknownLogError, UnknownTableError
 from scenariominer.store.vectors import embeddings_table
 from scenariominer.tags.engine import LogTags, tag_log
+from scenariominer.tags.stitch import ALIAS_NOTE_PREFIX, stitch_tracks
 
 __all__ = [
     "AnalyzeReport",
@@ -283,8 +285,11 @@ def analyze_log(
         The tags and records (embedding fields empty; :func:`analyze_store` fills them).
     """
     cfg = config.explain
-    tags = tag_log(log, config.tags)
     notes: list[str] = list(log.notes)
+    stitched = stitch_tracks(log, config.tags.stitch)
+    log = stitched.log
+    notes.extend(stitched.notes)
+    tags = tag_log(log, config.tags)
     ego_speed = log.speed_mps[log.ego_index]
     top_speed = float(np.nanmax(ego_speed)) if np.isfinite(ego_speed).any() else 0.0
     if top_speed < cfg.min_ego_speed_mps:
@@ -293,7 +298,7 @@ def analyze_log(
             "no braking to explain"
         )
         return LogOutcome(tags, (), (), LogStatus.NO_EGO_MOTION, tuple(notes), ())
-    events = find_key_objects(tags, config.tags.keyident)
+    events = identify_key_objects(log, tags, config.tags.keyident, aliases=stitched.aliases)
     records: list[EventRecord] = []
     texts: list[str] = []
     outcomes: list[Classification] = []
@@ -342,6 +347,12 @@ def _analyze_event(
     )
     if pair.guest_frames < 3:
         notes.append(f"the guest is observed in only {pair.guest_frames} frame(s) of the window")
+    if event.method == "counterfactual":
+        notes.append(
+            f"key object by counterfactual conflict ({event.conflict_s:.1f} s after the braking onset)"
+        )
+    if event.aliases:
+        notes.append(f"{ALIAS_NOTE_PREFIX}{','.join(event.aliases)}")
     description = describe_segments(segment_pair(pair, cfg.min_segment_s))
     crit = event_criticality(log, tags, event.track_id, event.start_ns, event.end_ns, cfg)
     candidates = rule_candidates(pair)
