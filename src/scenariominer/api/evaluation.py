@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -42,6 +43,9 @@ class BrakingEvalRequest:
         judges: further judges to score side by side with the stored one (``llm``, ``hybrid``):
             each re-judges the stored events from their stored facts with the configured model
             (answers the response cache holds are free).
+        methods: also give KeyIdent recall of every key-object method (``tags``,
+            ``counterfactual``, ``combined``) on the same logs, and per ``noise_level`` when the
+            labels have that column (the logs are tagged again; no LLM).
     """
 
     labels: Path
@@ -49,6 +53,7 @@ class BrakingEvalRequest:
     retrieval: bool = True
     complete_only: bool = False
     judges: tuple[str, ...] = ()
+    methods: bool = True
 
 
 def evaluate_braking(
@@ -69,7 +74,7 @@ def evaluate_braking(
     categories = load_categories(request.categories_file or config.explain.categories_file)
     embedder = make_embedder(config) if request.retrieval else None
     extra = _rejudge(store, request, config, categories, progress, usage) if request.judges else {}
-    return _evaluate_braking(
+    ev = _evaluate_braking(
         store,
         rows,
         embedder,
@@ -77,6 +82,12 @@ def evaluate_braking(
         only_complete=request.complete_only,
         extra_judges=extra,
     )
+    if not request.methods:
+        return ev
+    from scenariominer.eval.braking_methods import keyident_by_method, read_noise_levels
+
+    by_method = keyident_by_method(store, rows, config, read_noise_levels(request.labels))
+    return dataclasses.replace(ev, by_method=tuple(by_method))
 
 
 def _rejudge(

@@ -70,6 +70,20 @@ def render_braking(ev: BrakingEvaluation) -> None:
     if ev.pedestrians_as_obj_crossing:
         peds = ", ".join(f"{safe(j)} {n}/{of}" for j, (n, of) in ev.pedestrians_as_obj_crossing.items())
         out.print(f"pedestrian guests classed obj_crossing: {peds}")
+    if ev.by_method:
+        cats = [r.category for r in ev.by_method[0].rows]
+        tm = Table(title="KeyIdent recall by method (re-tagged logs)", title_justify="left")
+        for col in ("method", "noise", *cats, "precision"):
+            tm.add_column(safe(col), justify="left" if col in ("method", "noise") else "right", no_wrap=True)
+        for m in ev.by_method:
+            recall = {r.category: r.recall for r in m.rows}
+            tm.add_row(
+                safe(m.method),
+                safe(m.noise_level),
+                *(_num(recall.get(c, math.nan)) for c in cats),
+                _num(m.overall.precision),
+            )
+        out.print(tm)
     if ev.retrieval:
         k_p, k_r = ev.retrieval[0].k_precision, ev.retrieval[0].k_recall
         t6 = Table(title=f"Free-text retrieval, {safe(ev.embedding_model)} (Table VI)", title_justify="left")
@@ -137,6 +151,10 @@ def braking(
             "the stored events with the configured model.",
         ),
     ] = "",
+    methods: Annotated[
+        bool,
+        typer.Option(help="Also give KeyIdent recall per key-object method (tags, counterfactual, combined)"),
+    ] = True,
     json_out: JsonOpt = False,
 ) -> None:
     """Evaluate braking events against labels: KeyIdent, rules / LLM / hybrid per category, retrieval."""
@@ -147,7 +165,7 @@ def braking(
 
     cfg = load_cfg(config)
     wanted = tuple(j.strip() for j in judges.split(",") if j.strip())
-    request = api.BrakingEvalRequest(labels, categories, retrieval, complete_only, wanted)
+    request = api.BrakingEvalRequest(labels, categories, retrieval, complete_only, wanted, methods)
     usage = UsageCounter()
     with progress_bar(not json_out) as bar:
         ev = api.evaluate_braking(api.open_existing_store(store, cfg), request, cfg, bar, usage)

@@ -36,6 +36,7 @@ from scenariominer.llm.embeddings import Embedder
 from scenariominer.retrieval import rank
 from scenariominer.store import ScenarioStore, UnknownTableError
 from scenariominer.store.vectors import load_embeddings
+from scenariominer.tags.stitch import aliases_from_notes
 
 __all__ = [
     "OOD_QUERIES",
@@ -45,6 +46,7 @@ __all__ = [
     "KeyIdentRow",
     "Label",
     "LabelFileError",
+    "MethodScores",
     "Pair",
     "RetrievalRow",
     "classification_scores",
@@ -52,6 +54,7 @@ __all__ = [
     "pedestrian_confusion",
     "keyident_scores",
     "read_labels",
+    "resolve_aliases",
     "retrieval_row",
 ]
 
@@ -287,6 +290,23 @@ def retrieval_row(
 
 
 @dataclass(frozen=True)
+class MethodScores:
+    """KeyIdent scores of one key-object method (and one noise level), recomputed from the logs.
+
+    Attributes:
+        method: ``tags``, ``counterfactual`` or ``combined`` (see ``tags.keyident.method``).
+        noise_level: the labels' noise level these rows cover (``all``: every evaluated log).
+        rows: recall per label category, ``overall`` last.
+        overall: precision / recall counts over every detected pair.
+    """
+
+    method: str
+    noise_level: str
+    rows: tuple[KeyIdentRow, ...]
+    overall: PRF
+
+
+@dataclass(frozen=True)
 class BrakingEvaluation:
     """Every table of the braking evaluation.
 
@@ -306,6 +326,8 @@ class BrakingEvaluation:
         judges: the columns of Table V, in order (``rules`` first).
         pedestrians_as_obj_crossing: per judge, ``(pedestrian pairs classed obj_crossing,
             pedestrian pairs detected)``.
+        by_method: KeyIdent recall of every key-object method on the same logs (empty unless
+            asked for; see :mod:`scenariominer.eval.braking_methods`).
     """
 
     n_logs: int
@@ -320,6 +342,7 @@ class BrakingEvaluation:
     embedding_model: str = ""
     judges: tuple[str, ...] = ("rules",)
     pedestrians_as_obj_crossing: Mapping[str, tuple[int, int]] = field(default_factory=dict)
+    by_method: tuple[MethodScores, ...] = ()
 
     def to_json_dict(self) -> dict[str, Any]:
         """JSON-safe form (undefined scores are ``null``)."""
@@ -375,6 +398,16 @@ class BrakingEvaluation:
                 for r in self.retrieval
             ],
             "embedding_model": self.embedding_model,
+            "keyident_by_method": [
+                {
+                    "method": m.method,
+                    "noise_level": m.noise_level,
+                    "precision": num(m.overall.precision),
+                    "recall": num(m.overall.recall),
+                    "by_category": {r.category: num(r.recall) for r in m.rows},
+                }
+                for m in self.by_method
+            ],
         }
 
 
@@ -400,6 +433,29 @@ def _pairs_by_category(events: pa.Table, column: str) -> dict[Pair, list[str]]:
     ):
         out.setdefault((str(log_id), str(guest_id)), []).append(str(cat))
     return out
+
+
+def resolve_aliases(events: pa.Table, labelled: set[Pair]) -> pa.Table:
+    """Events whose guest is a stitched object name the labelled one of its ids, if any.
+
+    An event's notes list the other track ids of its guest (tracks stitched into it after an id
+    switch, :data:`~scenariominer.tags.stitch.ALIAS_NOTE_PREFIX`). When the guest id itself is not
+    labelled but one of those is, the event's ``guest_id`` becomes that id, so the event counts
+    once, for the labelled object.
+    """
+    if "notes" not in events.column_names or events.num_rows == 0:
+        return events
+    guests = []
+    for log_id, guest_id, note in zip(
+        events.column("log_id").to_pylist(),
+        events.column("guest_id").to_pylist(),
+        events.column("notes").to_pylist(),
+        strict=True,
+    ):
+        ids = (str(guest_id), *aliases_from_notes(str(note or "")))
+        guests.append(next((g for g in ids if (str(log_id), g) in labelled), str(guest_id)))
+    index = events.column_names.index("guest_id")
+    return events.set_column(index, "guest_id", pa.array(guests, pa.string()))
 
 
 def _pair_of_event(events: pa.Table) -> dict[str, Pair]:
@@ -499,6 +555,7 @@ def evaluate_braking(
                 )
             }
         )
+    events = resolve_aliases(events, {lab.pair for lab in evaluated})
     detected = list(_pairs_by_category(events, "category"))
     ki_rows, ki_overall = keyident_scores(evaluated, detected)
     predictions = _predictions(events, extra_judges or {})

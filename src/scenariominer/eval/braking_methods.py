@@ -4,7 +4,8 @@ The store holds the events of one configuration. To compare the key-object metho
 (``tags``, ``counterfactual``, ``combined``, see :mod:`scenariominer.events.counterfactual`) on the
 same logs, each labelled log is loaded again, cleaned (:func:`~scenariominer.tags.stitch.stitch_tracks`
 when ``tags.stitch.enabled``), tagged once and searched by every method; no LLM is involved. A
-labelled pair is found when an event names its guest or has it among its aliases (stitched ids).
+labelled pair is found when an event names its guest or has it among its aliases (stitched ids);
+such an event counts once, as the labelled pair.
 When the labels file has a ``noise_level`` column, recall is also given per noise level.
 """
 
@@ -13,36 +14,17 @@ from __future__ import annotations
 import csv
 import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
 from scenariominer.config import Config
 from scenariominer.config.tags import KEYIDENT_METHODS
-from scenariominer.eval.braking import KeyIdentRow, Label, Pair, keyident_scores
-from scenariominer.eval.metrics import PRF
+from scenariominer.eval.braking import Label, MethodScores, Pair, keyident_scores
 from scenariominer.events.counterfactual import identify_key_objects
 from scenariominer.store import ScenarioStore
 from scenariominer.tags.engine import tag_log
 from scenariominer.tags.stitch import stitch_tracks
 
 __all__ = ["MethodScores", "keyident_by_method", "read_noise_levels"]
-
-
-@dataclass(frozen=True)
-class MethodScores:
-    """KeyIdent scores of one method (and one noise level) on the evaluated logs.
-
-    Attributes:
-        method: ``tags``, ``counterfactual`` or ``combined``.
-        noise_level: the labels' noise level these rows cover (``all`` for every log).
-        rows: recall per label category, ``overall`` last.
-        overall: precision / recall counts over every detected pair.
-    """
-
-    method: str
-    noise_level: str
-    rows: tuple[KeyIdentRow, ...]
-    overall: PRF
 
 
 def read_noise_levels(path: str | Path) -> dict[str, str]:
@@ -54,8 +36,13 @@ def read_noise_levels(path: str | Path) -> dict[str, str]:
         return {str(r["log_id"]): str(r["noise_level"] or "") for r in reader if r.get("log_id")}
 
 
-def _detected_pairs(store: ScenarioStore, log_ids: Sequence[str], config: Config) -> dict[str, list[Pair]]:
-    """``method → pairs with an event`` (aliases included), every method on the same tagged logs."""
+def _detected_pairs(
+    store: ScenarioStore, log_ids: Sequence[str], config: Config, labelled: set[Pair]
+) -> dict[str, list[Pair]]:
+    """``method → pairs with an event``, every method on the same tagged logs.
+
+    A stitched guest counts as the labelled one of its ids when there is one, else as its own id.
+    """
     out: dict[str, list[Pair]] = {m: [] for m in KEYIDENT_METHODS}
     for log_id in log_ids:  # one iteration per log
         stitched = stitch_tracks(store.load_log(log_id), config.tags.stitch)
@@ -63,7 +50,10 @@ def _detected_pairs(store: ScenarioStore, log_ids: Sequence[str], config: Config
         for method in KEYIDENT_METHODS:
             cfg = dataclasses.replace(config.tags.keyident, method=method)
             for ev in identify_key_objects(stitched.log, tags, cfg, aliases=stitched.aliases):
-                out[method].extend((log_id, g) for g in (ev.track_id, *ev.aliases))
+                ids = (ev.track_id, *ev.aliases)
+                out[method].append(
+                    next(((log_id, g) for g in ids if (log_id, g) in labelled), (log_id, ev.track_id))
+                )
     return out
 
 
@@ -87,7 +77,7 @@ def keyident_by_method(
     known = set(store.log_ids())
     logs = sorted({lab.log_id for lab in labels} & known)
     evaluated = [lab for lab in labels if lab.log_id in known]
-    detected = _detected_pairs(store, logs, config)
+    detected = _detected_pairs(store, logs, config, {lab.pair for lab in evaluated})
     levels = sorted(set((noise_levels or {}).values()) - {""})
     out: list[MethodScores] = []
     for method in KEYIDENT_METHODS:
