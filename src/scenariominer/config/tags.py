@@ -19,9 +19,9 @@ class CounterfactualConfig:
     """Counterfactual conflict search: which object would the ego have met had it not braked.
 
     For each braking segment (a run of DECELERATING / STANDING_STILL frames of the ego that starts
-    at a speed of at least ``min_onset_speed_mps``), the ego is moved along its own driven path
-    (continued straight past its end) at its speed at braking onset, from its position at several
-    reference times, and every object is moved with constant velocity and turn rate; an object
+    at a speed of at least ``min_onset_speed_mps``), the ego is moved at its speed at braking onset
+    along its heading and along its own driven path, from its position at several reference
+    times, and every object is moved with constant velocity and turn rate; an object
     whose predicted box overlaps a predicted ego box within ``max_gap_s`` is a candidate.
 
     Attributes:
@@ -42,6 +42,9 @@ class CounterfactualConfig:
         gap_weight: ranking cost per second of the conflict's time gap.
         max_late_s: objects first seen more than this many seconds after the onset are not candidates.
         max_per_segment: candidates kept per braking segment, best ranked first (1: the key object).
+        driven_path_weight: ranking cost (seconds) of a conflict found only along the path the ego
+            actually drove, not along its heading (that path holds later manoeuvres, e.g. the lane
+            change around the stopped car that made it brake).
     """
 
     horizon_s: float = 5.0
@@ -51,7 +54,7 @@ class CounterfactualConfig:
     ref_step_s: float = 0.5
     ref_after_s: float = 3.0
     max_gap_s: float = 1.5
-    margin_m: float = 0.3
+    margin_m: float = 0.0
     max_range_m: float = 80.0
     ctrv_max_yaw_rate_radps: float = 1.0
     ref_weight: float = 0.5
@@ -59,6 +62,7 @@ class CounterfactualConfig:
     gap_weight: float = 1.0
     max_late_s: float = 1.0
     max_per_segment: int = 1
+    driven_path_weight: float = 2.0
 
     def __post_init__(self) -> None:
         if not 0 < self.step_s <= self.horizon_s:
@@ -79,6 +83,7 @@ class CounterfactualConfig:
             "late_weight",
             "gap_weight",
             "max_late_s",
+            "driven_path_weight",
         ):
             if getattr(self, name) < 0:
                 raise ValueError(f"tags.keyident.counterfactual: {name} must be >= 0")

@@ -8,9 +8,12 @@ counterfactual question instead:
 1. **Braking segments**: runs of ego frames tagged DECELERATING or STANDING_STILL (runs closer
    than ``KeyIdentConfig.max_gap_s`` merged) whose speed just before the onset (the largest speed in
    the ``ref_before_s`` before it) is at least ``min_onset_speed_mps``.
-2. **Counterfactual ego**: from its recorded position at a reference time, the ego moves along
-   the path it actually drove (an offline log knows where it went; continued straight past the
-   log's end) at its pre-braking speed. Reference times run from ``ref_before_s`` before the
+2. **Counterfactual ego**: from its recorded position at a reference time, the ego moves at its
+   pre-braking speed along two paths: keeping its heading and turn rate, and along the path it
+   actually drove (an offline log knows where it went, e.g. the left turn it waited to make;
+   continued straight past the log's end). A conflict found only on the driven path costs
+   ``driven_path_weight`` in the ranking: it may come from a manoeuvre the key object caused.
+   Reference times run from ``ref_before_s`` before the
    onset to ``ref_after_s`` after it (at most to the segment's end), every ``ref_step_s``.
 3. **Objects**: every object observed at the reference time within ``max_range_m`` moves with
    constant velocity and turn rate (:func:`~scenariominer.geometry.ctrv_predict`).
@@ -174,12 +177,6 @@ def segment_candidates(
     for r in _reference_indices(t_s, seg, cfg):  # a handful of reference times per segment
         if not log.valid[e, r]:
             continue
-        ego_x, ego_y, ego_yaw = poses_along_path(
-            log.x_m[e, r:], log.y_m[e, r:], float(_last_finite(log.yaw_rad[e, r:])), seg.onset_speed_mps * tau
-        )
-        ego = OrientedBoxes(
-            ego_x, ego_y, ego_yaw, np.full(tau.size, log.length_m[e, r]), np.full(tau.size, log.width_m[e, r])
-        )
         near = log.valid[:, r] & (
             np.hypot(log.x_m[:, r] - log.x_m[e, r], log.y_m[:, r] - log.y_m[e, r]) <= cfg.max_range_m
         )
@@ -204,33 +201,72 @@ def segment_candidates(
             np.broadcast_to(log.length_m[rows, r, None], ox.shape),
             np.broadcast_to(log.width_m[rows, r, None], ox.shape),
         )
-        found = first_conflicts(
-            ego, objects, tau, cfg.max_gap_s, cfg.margin_m, object_after_s=OBJECT_AFTER_EGO_S
-        )
-        hits = np.flatnonzero(found.found)
-        if hits.size == 0:
-            continue
         t_ref = float(t_s[r])
-        late = np.maximum(first_seen_s[rows[hits]] - t0, 0.0)
-        gap = found.gap_s[hits]
-        score = (
-            found.ego_time_s[hits]
-            + cfg.gap_weight * gap
-            + cfg.ref_weight * max(t_ref - t0, 0.0)
-            + cfg.late_weight * late
-        )
-        for k, row in enumerate(rows[hits]):  # one iteration per conflicting object
-            cand = ConflictCandidate(
-                int(row),
-                int(r),
-                t_ref - t0 + float(found.ego_time_s[hits[k]]),
-                float(gap[k]),
-                float(score[k]),
+        for ego, path_cost in _ego_paths(log, r, seg.onset_speed_mps, tau, float(rate[e, r]), cfg):
+            found = first_conflicts(
+                ego, objects, tau, cfg.max_gap_s, cfg.margin_m, object_after_s=OBJECT_AFTER_EGO_S
             )
-            old = best.get(int(row))
-            if old is None or cand.score < old.score:
-                best[int(row)] = cand
+            hits = np.flatnonzero(found.found)
+            if hits.size == 0:
+                continue
+            late = np.maximum(first_seen_s[rows[hits]] - t0, 0.0)
+            gap = found.gap_s[hits]
+            score = (
+                found.ego_time_s[hits]
+                + cfg.gap_weight * gap
+                + cfg.ref_weight * max(t_ref - t0, 0.0)
+                + cfg.late_weight * late
+                + path_cost
+            )
+            for k, row in enumerate(rows[hits]):  # one iteration per conflicting object
+                cand = ConflictCandidate(
+                    int(row),
+                    int(r),
+                    t_ref - t0 + float(found.ego_time_s[hits[k]]),
+                    float(gap[k]),
+                    float(score[k]),
+                )
+                old = best.get(int(row))
+                if old is None or cand.score < old.score:
+                    best[int(row)] = cand
     return sorted(best.values(), key=lambda c: (c.score, c.track_index))
+
+
+def _ego_paths(
+    log: Log,
+    r: int,
+    speed_mps: float,
+    tau: NDArray[np.float64],
+    yaw_rate_radps: float,
+    cfg: CounterfactualConfig,
+) -> list[tuple[OrientedBoxes, float]]:
+    """The counterfactual ego boxes ``(H,)`` from timestamp ``r``, each with its ranking cost.
+
+    Two paths at the pre-braking speed: keeping the ego's heading and turn rate at ``r`` (cost 0),
+    and along the path it actually drove from ``r`` on (cost ``driven_path_weight``: a conflict
+    found only there relies on a later manoeuvre, e.g. the turn it was waiting to make, or the
+    evasive lane change the key object itself caused).
+    """
+    e = log.ego_index
+    length = np.full(tau.size, log.length_m[e, r])
+    width = np.full(tau.size, log.width_m[e, r])
+    yaw = log.yaw_rad[e, r : r + 1]
+    hx, hy, hyaw = ctrv_predict(
+        log.x_m[e, r : r + 1],
+        log.y_m[e, r : r + 1],
+        yaw,
+        speed_mps * np.cos(yaw),
+        speed_mps * np.sin(yaw),
+        np.full(1, yaw_rate_radps),
+        tau,
+    )
+    dx, dy, dyaw = poses_along_path(
+        log.x_m[e, r:], log.y_m[e, r:], _last_finite(log.yaw_rad[e, r:]), speed_mps * tau
+    )
+    return [
+        (OrientedBoxes(hx, hy, hyaw, length, width), 0.0),
+        (OrientedBoxes(dx, dy, dyaw, length, width), cfg.driven_path_weight),
+    ]
 
 
 def _last_finite(values: NDArray[np.float64]) -> float:

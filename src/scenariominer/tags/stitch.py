@@ -8,7 +8,8 @@ overlap tag), and a ghost detection (a box that lives a few frames) can become a
 1. **Id switches**: a track ``i`` that ends and a track ``j`` of the same category that starts
    after it, within ``max_gap_s``, are one object when ``j``'s first box lies within
    ``max_position_error_m + position_error_per_s_m × gap`` of ``i``'s last box extrapolated over the
-   gap at ``i``'s velocity, their speeds differ by at most ``max_speed_change_mps`` and their
+   gap at ``i``'s velocity (its mean over ``i``'s last five frames), their speeds (``j``: over its
+   first five) differ by at most ``max_speed_change_mps`` and their
    lengths and widths by at most ``max_size_change_m``. Every feasible ``(ending, starting)``
    pair is scored by its position error (plus the speed difference, m/s counted as metres) and
    the pairs are matched one to one by :func:`scipy.optimize.linear_sum_assignment`; chains
@@ -41,6 +42,8 @@ ALIAS_NOTE_PREFIX = "same object as track(s) "
 
 #: Cost of an infeasible pair in the assignment (larger than any feasible cost).
 _INFEASIBLE = 1e9
+#: A track's velocity at its end (start) is its mean velocity over its last (first) this many frames.
+_END_FRAMES = 5
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,9 +92,18 @@ def match_switches(log: Log, cfg: StitchConfig) -> list[tuple[int, int]]:
     rows = np.arange(n)
     t_s = log.t_s
     e_x, e_y = log.x_m[rows, last], log.y_m[rows, last]
-    e_vx, e_vy = np.nan_to_num(log.vx_mps[rows, last]), np.nan_to_num(log.vy_mps[rows, last])
     s_x, s_y = log.x_m[rows, first], log.y_m[rows, first]
-    s_vx, s_vy = np.nan_to_num(log.vx_mps[rows, first]), np.nan_to_num(log.vy_mps[rows, first])
+    # Velocities at a track's ends as mean velocities over its last / first frames: the smoothed
+    # velocity of an end sample is an extrapolating edge fit, unreliable on noisy boxes.
+    before = np.maximum(first, last - _END_FRAMES)
+    after = np.minimum(last, first + _END_FRAMES)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dt_end = np.where(last > before, t_s[last] - t_s[before], np.inf)
+        dt_start = np.where(after > first, t_s[after] - t_s[first], np.inf)
+        e_vx = np.nan_to_num((e_x - log.x_m[rows, before]) / dt_end)
+        e_vy = np.nan_to_num((e_y - log.y_m[rows, before]) / dt_end)
+        s_vx = np.nan_to_num((log.x_m[rows, after] - s_x) / dt_start)
+        s_vy = np.nan_to_num((log.y_m[rows, after] - s_y) / dt_start)
     gap = t_s[first][None, :] - t_s[last][:, None]  # (ending i, starting j)
     pred_x = e_x[:, None] + e_vx[:, None] * gap
     pred_y = e_y[:, None] + e_vy[:, None] * gap
