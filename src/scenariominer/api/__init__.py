@@ -39,6 +39,7 @@ graph build         :func:`build_graph`                              :mod:`.grap
 ask                 :func:`ask`                                      :mod:`.graph`
 eval retrieval      :func:`evaluate_retrieval`                       :mod:`.graph`
 simulate highway    :func:`simulate_highway`                         :mod:`.sim_highway`
+simulate urban      :func:`simulate_urban`                           :mod:`.sim_urban`
 ==================  ===============================================  ============================
 
 Names are imported lazily on first use, so ``import scenariominer.api`` is cheap.
@@ -122,6 +123,9 @@ _EXPORTS: dict[str, str] = {
     "HighwaySimReport": "sim_highway",
     "HighwaySimRequest": "sim_highway",
     "simulate_highway": "sim_highway",
+    "UrbanSimReport": "sim_urban",
+    "UrbanSimRequest": "sim_urban",
+    "simulate_urban": "sim_urban",
 }
 
 __all__ = sorted(_EXPORTS)
