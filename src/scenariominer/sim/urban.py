@@ -20,6 +20,7 @@ Output folder::
 from __future__ import annotations
 
 import csv
+import os
 import shutil
 import time
 from collections import Counter
@@ -42,7 +43,9 @@ __all__ = [
     "UrbanLogResult",
     "UrbanSetResult",
     "UrbanSettings",
+    "find_sumo_programs",
     "simulate_urban_set",
+    "write_urban_labels",
 ]
 
 #: Draws per log before it is given up.
@@ -146,12 +149,38 @@ class _Row:
     values: tuple[str, ...]
 
 
-def _one(
-    index: int, family: ScenarioCategory, settings: UrbanSettings, out_dir: Path, keep_sumo: bool
-) -> tuple[UrbanLogResult, _Row | None]:
-    import sumolib
+def find_sumo_programs() -> tuple[str, str]:
+    """Paths of ``sumo`` and ``netconvert`` (:func:`sumolib.checkBinary`: ``SUMO_HOME``, the package).
 
-    sumo, netconvert = str(sumolib.checkBinary("sumo")), str(sumolib.checkBinary("netconvert"))
+    Raises:
+        MissingExtraError: sumolib is not installed.
+        UrbanSimError: a program cannot be found.
+    """
+    from scenariominer._optional import require
+
+    sumolib = require("sumolib", extra="sim", purpose="simulating urban scenarios with SUMO")
+    found = []
+    for name in ("sumo", "netconvert"):
+        path = str(sumolib.checkBinary(name))
+        resolved = path if os.path.isfile(path) else shutil.which(path)
+        if not resolved:
+            raise UrbanSimError(
+                f"SUMO's {name!r} program was not found: pip install 'scenariominer[sim]' (eclipse-sumo) "
+                f"or set SUMO_HOME to a SUMO installation"
+            )
+        found.append(resolved)
+    return found[0], found[1]
+
+
+def _one(
+    index: int,
+    family: ScenarioCategory,
+    settings: UrbanSettings,
+    out_dir: Path,
+    programs: tuple[str, str],
+    keep_sumo: bool,
+) -> tuple[UrbanLogResult, _Row | None]:
+    sumo, netconvert = programs
     t0 = time.perf_counter()
     noise = noise_for(settings.noise, index)
     work = out_dir / "sumo" / f"{index:03d}"
@@ -246,7 +275,7 @@ def simulate_urban_set(
     from scenariominer._optional import require
 
     families = settings.families()
-    require("sumolib", extra="sim", purpose="simulating urban scenarios with SUMO")
+    programs = find_sumo_programs()
     require("traci", extra="sim", purpose="simulating urban scenarios with SUMO")
     progress = progress or NullProgress()
     out_dir = Path(out_dir)
@@ -257,7 +286,7 @@ def simulate_urban_set(
     progress.start("urban scenarios", settings.n)
     try:
         for i in range(settings.n):
-            result, row = _one(i, families[i % len(families)], settings, out_dir, keep_sumo)
+            result, row = _one(i, families[i % len(families)], settings, out_dir, programs, keep_sumo)
             results.append(result)
             if row is not None:
                 rows.append(row.values)

@@ -296,7 +296,7 @@ def run_scenario(scenario: UrbanScenario, net_file: Path, sumo: str, *, with_gue
         sumo, "-n", str(net_file), "-r", str(routes), "--step-length", f"{STEP_S}",
         "--seed", str(scenario.sumo_seed), "--no-step-log", "--no-warnings", "--duration-log.disable",
         "--lanechange.duration", "2.0", "--collision.action", "warn", "--time-to-teleport", "-1",
-        "--pedestrian.model", "striping", "--xml-validation", "never",
+        "--pedestrian.model", "striping", "--xml-validation", "never", "--error-log", str(work / "sumo.log"),
     ]  # fmt: skip
     try:
         with open(os.devnull, "w") as devnull, contextlib.redirect_stdout(devnull):
@@ -307,8 +307,12 @@ def run_scenario(scenario: UrbanScenario, net_file: Path, sumo: str, *, with_gue
     try:
         return _drive(scenario, conn, with_guest)
     except (traci.exceptions.TraCIException, traci.exceptions.FatalTraCIError) as exc:
+        log = work / "sumo.log"
+        lines = log.read_text(encoding="utf-8", errors="replace").splitlines() if log.is_file() else []
+        said = " | ".join([ln for ln in lines if ln.startswith("Error")][-2:])
         raise UrbanSimError(
             f"SUMO stopped in scenario {scenario.index} ({scenario.family.value}): {exc}"
+            + (f" ({said})" if said else "")
         ) from None
     finally:
         with contextlib.suppress(Exception):  # the connection may already be gone
