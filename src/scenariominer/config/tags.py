@@ -42,6 +42,9 @@ class CounterfactualConfig:
         gap_weight: ranking cost per second of the conflict's time gap.
         max_late_s: objects first seen more than this many seconds after the onset are not candidates.
         max_per_segment: candidates kept per braking segment, best ranked first (1: the key object).
+        ego_width_shrink_m: the counterfactual ego's box is narrowed by this on each side (metres),
+            so that an object in the next lane whose predicted box grazes the ego's (heading noise)
+            is no conflict; an object in the ego's lane still is.
         driven_path_weight: ranking cost (seconds) of a conflict found only along the path the ego
             actually drove, not along its heading (that path holds later manoeuvres, e.g. the lane
             change around the stopped car that made it brake).
@@ -63,6 +66,7 @@ class CounterfactualConfig:
     max_late_s: float = 1.0
     max_per_segment: int = 1
     driven_path_weight: float = 2.0
+    ego_width_shrink_m: float = 0.4
 
     def __post_init__(self) -> None:
         if not 0 < self.step_s <= self.horizon_s:
@@ -84,6 +88,7 @@ class CounterfactualConfig:
             "gap_weight",
             "max_late_s",
             "driven_path_weight",
+            "ego_width_shrink_m",
         ):
             if getattr(self, name) < 0:
                 raise ValueError(f"tags.keyident.counterfactual: {name} must be >= 0")

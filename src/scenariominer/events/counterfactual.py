@@ -242,14 +242,15 @@ def _ego_paths(
 ) -> list[tuple[OrientedBoxes, float]]:
     """The counterfactual ego boxes ``(H,)`` from timestamp ``r``, each with its ranking cost.
 
-    Two paths at the pre-braking speed: keeping the ego's heading and turn rate at ``r`` (cost 0),
+    The boxes are narrowed by ``ego_width_shrink_m`` on each side. Two paths at the pre-braking
+    speed: keeping the ego's heading and turn rate at ``r`` (cost 0),
     and along the path it actually drove from ``r`` on (cost ``driven_path_weight``: a conflict
     found only there relies on a later manoeuvre, e.g. the turn it was waiting to make, or the
     evasive lane change the key object itself caused).
     """
     e = log.ego_index
     length = np.full(tau.size, log.length_m[e, r])
-    width = np.full(tau.size, log.width_m[e, r])
+    width = np.full(tau.size, max(float(log.width_m[e, r]) - 2.0 * cfg.ego_width_shrink_m, 0.1))
     yaw = log.yaw_rad[e, r : r + 1]
     hx, hy, hyaw = ctrv_predict(
         log.x_m[e, r : r + 1],
