@@ -247,3 +247,14 @@ def test_an_interrupted_run_keeps_the_rule_results_and_a_rerun_continues(
     assert second.n_unchanged == sum(r["complete"] for r in runs)  # finished logs are not redone
     assert "pending" not in store.read_table(EVENTS_TABLE).column("llm_status").to_pylist()
     assert len(backend.requests) <= waiting  # answers given before the interruption are not asked again
+
+
+def test_an_early_yield_becomes_a_counterfactual_event() -> None:
+    from yield_scenarios import pedestrian_yield
+
+    log = pedestrian_yield(split_at_s=3.0).build(smooth=True)  # the pedestrian's id switches too
+    outcome = pipeline.analyze_log(log, Config(), load_categories(""), None)
+    assert [r.guest_id for r in outcome.records] == ["ped"]
+    notes = outcome.records[0].notes
+    assert "counterfactual conflict" in notes and "same object as track(s) ped_b" in notes
+    assert any("stitched 1 object" in n for n in outcome.notes)
