@@ -14,9 +14,11 @@ medium     0.15 m       0.03 rad   4 %             1 (guest: 40 %)     1
 high       0.30 m       0.06 rad   10 %            2 (guest: 50 %)     3
 =========  ===========  =========  ==============  ==================  ======
 
-An id switch gives a track a new id from a drawn frame on; the label names the guest's id at the
-braking onset. A ghost is a short (3-8 frames), nearly still box 10-50 m from the ego. The ego's
-poses get 1 cm of jitter at every level.
+Vehicles parked beside the roads (:attr:`UrbanScenario.n_parked`, off the carriageway) are
+added as still boxes; they take no part in the simulation. An id switch gives a track a new id
+from a drawn frame on; the label names the guest's id at the braking onset. A ghost is a short
+(3-8 frames), nearly still box 10-50 m from the ego. The ego's poses get 1 cm of jitter at every
+level.
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ from scenariominer.data.adapters.av2.map import write_av2_map
 from scenariominer.data.log import FloatArray, build_log
 from scenariominer.geometry import rotate_xy, wrap_angle
 from scenariominer.sim.urban_label import UrbanLabel
-from scenariominer.sim.urban_net import UrbanSimError, network_map
+from scenariominer.sim.urban_net import UrbanSimError, network_map, parked_spots
 from scenariominer.sim.urban_run import EGO_ID, GUEST_ID, STEP_S, RunRecord
 from scenariominer.sim.urban_scenario import NoiseLevel, UrbanScenario
 
@@ -42,6 +44,15 @@ __all__ = ["NOISE", "VISIBLE_M", "WINDOW_S", "ExportedLog", "NoiseSpec", "export
 WINDOW_S = 15.0
 #: Road users farther than this from the ego (m) are not annotated.
 VISIBLE_M = 120.0
+
+
+#: Parked vehicles: (category, length, width, height), metres.
+_PARKED_SIZE_M: tuple[tuple[str, float, float, float], ...] = (
+    ("REGULAR_VEHICLE", 4.5, 1.8, 1.5),
+    ("REGULAR_VEHICLE", 4.2, 1.75, 1.45),
+    ("LARGE_VEHICLE", 5.6, 2.0, 2.2),
+    ("BOX_TRUCK", 7.0, 2.4, 3.2),
+)
 
 
 @dataclass(frozen=True)
@@ -183,6 +194,24 @@ def export_log(
         cols["height_m"].append(np.full(k.size, height))
         if is_ego:
             ego_track_id = str(track_ids[0])
+    for px, py, pyaw in parked_spots(net_file, scenario.n_parked, rng):
+        keep = np.hypot(px - ex, py - ey) <= VISIBLE_M
+        keep &= rng.random(n_t) >= noise.drop_rate
+        k = np.flatnonzero(keep)
+        if k.size < 5:
+            continue
+        pcat, plen, pwid, phei = _PARKED_SIZE_M[int(rng.integers(0, len(_PARKED_SIZE_M)))]
+        xy = tf(np.tile([px, py], (k.size, 1))) + rng.normal(0.0, noise.pos_sigma_m, size=(k.size, 2))
+        ids.append(np.full(k.size, _uuid(rng)))
+        cats.append(np.full(k.size, pcat))
+        ts.append(timestamps[k])
+        cols["x_m"].append(xy[:, 0])
+        cols["y_m"].append(xy[:, 1])
+        cols["z_m"].append(np.full(k.size, z0 + phei / 2))
+        cols["yaw_rad"].append(wrap_angle(pyaw + theta + rng.normal(0.0, noise.yaw_sigma_rad, size=k.size)))
+        cols["length_m"].append(np.full(k.size, plen))
+        cols["width_m"].append(np.full(k.size, pwid))
+        cols["height_m"].append(np.full(k.size, phei))
     for _ in range(noise.ghosts):
         m = int(rng.integers(3, 9))
         k0 = int(rng.integers(0, max(n_t - m, 1)))

@@ -301,3 +301,32 @@ def network_map(net_file: Path, tf: Callable[[FloatArray], FloatArray], z_m: flo
     )
     # The drivable area was built in the city frame already (from the transformed lanes).
     return Av2Map(lane_segments=tuple(segments), pedestrian_crossings=tuple(crossings), drivable_areas=areas)
+
+
+def parked_spots(net_file: Path, n: int, rng: np.random.Generator) -> list[tuple[float, float, float]]:
+    """``n`` places ``(x, y, yaw)`` (SUMO coordinates) for parked cars beside the roads.
+
+    Each lies along a random arm's outer vehicle lane, 20-150 m from the junction, beyond that
+    lane's sidewalk (off the carriageway), heading with the traffic of the lane.
+    """
+    sumolib = _sumolib()
+    net = sumolib.net.readNet(str(net_file))
+    edges = [e for e in net.getEdges() if e.getFunction() == ""]
+    spots = []
+    for _ in range(n):
+        edge = edges[int(rng.integers(0, len(edges)))]
+        lanes = [ln for ln in edge.getLanes() if ln.allows("passenger")]
+        walk = [ln for ln in edge.getLanes() if not ln.allows("passenger")]
+        lane = lanes[0]
+        line = np.asarray(lane.getShape(), dtype=np.float64)[:, :2]
+        seg = np.linalg.norm(np.diff(line, axis=0), axis=1)
+        cum = np.concatenate([[0.0], np.cumsum(seg)])
+        from_junction = float(rng.uniform(20.0, min(150.0, cum[-1] - 5.0)))
+        s = cum[-1] - from_junction if edge.getID().startswith("in") else from_junction
+        i = int(np.clip(np.searchsorted(cum, s) - 1, 0, len(seg) - 1))
+        d = (line[i + 1] - line[i]) / max(seg[i], 1e-9)
+        p = line[i] + (s - cum[i]) * d
+        off = 0.5 * float(lane.getWidth()) + sum(float(w.getWidth()) for w in walk) + 1.3
+        x, y = p + off * np.array([d[1], -d[0]])  # to the right of the direction of travel
+        spots.append((float(x), float(y), float(np.arctan2(d[1], d[0]))))
+    return spots

@@ -259,9 +259,9 @@ def _background(scenario: UrbanScenario, conn: Any, rng: np.random.Generator) ->
     out = []
     for i in range(scenario.n_background):
         bid = f"bg{i}"
-        t = float(rng.uniform(0.0, 20.0))
+        t = float(rng.uniform(0.0, 30.0))
         if rng.random() < 0.65:
-            src = int(rng.choice([1, 2, 3]))
+            src = int(rng.choice([1, 2, 2, 3]))
             dst = int(rng.choice([d for d in range(4) if d != src]))
             tid = names[int(rng.choice(len(names), p=shares / shares.sum()))]
             conn.vehicle.add(
@@ -273,7 +273,7 @@ def _background(scenario: UrbanScenario, conn: Any, rng: np.random.Generator) ->
             length = conn.lane.getLength(f"{edge}_0")
             a, b = sorted(rng.uniform(30.0, length - 5.0, size=2))
             conn.person.add(bid, edge, pos=float(a), depart=t, typeID="ped")
-            conn.person.appendWalkingStage(bid, [edge], arrivalPos=float(max(b, a + 10.0)))
+            conn.person.appendWalkingStage(bid, [edge], arrivalPos=float(min(max(b, a + 10.0), length - 1.0)))
         out.append((t, bid))
     return out
 

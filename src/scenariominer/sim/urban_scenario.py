@@ -92,6 +92,8 @@ class UrbanScenario:
         guest_param: family-specific draw (gap, speed or lead time of the guest).
         guest_speed_mps: speed of a guest vehicle or pedestrian.
         n_background: other road users (vehicles on the other arms, pedestrians on the sidewalks).
+        n_parked: vehicles parked beside the roads (static, added at export; they take no part in
+            the simulation and stand off the carriageway, so they cannot make the ego brake).
         noise: tracker-like noise of the export.
         sumo_seed: SUMO's ``--seed``.
     """
@@ -109,6 +111,7 @@ class UrbanScenario:
     guest_param: float
     guest_speed_mps: float
     n_background: int
+    n_parked: int
     noise: NoiseLevel
     sumo_seed: int
 
@@ -184,7 +187,8 @@ def draw_scenario(
         trigger_m=float(params[0]),
         guest_param=float(params[1]),
         guest_speed_mps=float(params[2]),
-        n_background=int(rng.integers(2, 7)),
+        n_background=int(rng.integers(3, 11)),
+        n_parked=int(rng.integers(0, 6)),
         noise=noise,
         sumo_seed=int(rng.integers(1, 2**31 - 1)),
     )
