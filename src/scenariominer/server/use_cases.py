@@ -56,4 +56,5 @@ NOT_SERVED: dict[str, str] = {
     "serve_settings": "the model server's settings",
     "store_vacuum": "deletes files: left to an operator at the command line",
     "open_case_base": "a helper of the case base",
+    "simulate_urban": "not served yet: run `scenariominer simulate urban` (a job route is to come)",
 }
