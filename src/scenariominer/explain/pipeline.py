@@ -1,7 +1,9 @@
 """The braking-explanation pipeline over a store (braking paper, Fig. 2).
 
-For each log: load → :func:`~scenariominer.tags.tag_log` → store the ``tags`` table →
-:func:`~scenariominer.events.find_key_objects` → per event: analysis window, criticality,
+For each log: load → tracker-noise repair (:func:`~scenariominer.tags.stitch.stitch_tracks`) →
+:func:`~scenariominer.tags.tag_log` → store the ``tags`` table → key objects by the configured
+method (:func:`~scenariominer.events.counterfactual.identify_key_objects`: the paper's tags, the
+counterfactual conflict search, or both) → per event: analysis window, criticality,
 structured description, rule-based baseline, LLM understanding → embed the rephrased
 descriptions → store ``events``, ``event_embeddings`` and the per-log ``braking_runs`` row in one
 atomic write.
