@@ -95,10 +95,14 @@ def test_eval_braking(analysed: Path) -> None:
     result = json.loads(res.output)
     assert result["n_logs"] == 2 and result["keyident"]["recall"] == 1.0
     assert [r["category"] for r in result["classification"]][-1] == "overall"
+    by_method = {m["method"]: m for m in result["keyident_by_method"]}
+    assert set(by_method) == {"tags", "counterfactual", "combined"}
+    assert by_method["tags"]["recall"] == result["keyident"]["recall"]  # synthetic key objects raise tags
     table = runner.invoke(
         _app(), _args(analysed, "eval", "braking", "--labels", str(labels), "--no-retrieval")
     )
     assert table.exit_code == 0 and "Table V" in table.output
+    assert "KeyIdent recall by method" in table.output
 
 
 def test_user_errors_exit_2_with_one_line(workspace: Path, tmp_path: Path) -> None:

@@ -71,19 +71,7 @@ def render_braking(ev: BrakingEvaluation) -> None:
         peds = ", ".join(f"{safe(j)} {n}/{of}" for j, (n, of) in ev.pedestrians_as_obj_crossing.items())
         out.print(f"pedestrian guests classed obj_crossing: {peds}")
     if ev.by_method:
-        cats = [r.category for r in ev.by_method[0].rows]
-        tm = Table(title="KeyIdent recall by method (re-tagged logs)", title_justify="left")
-        for col in ("method", "noise", *cats, "precision"):
-            tm.add_column(safe(col), justify="left" if col in ("method", "noise") else "right", no_wrap=True)
-        for m in ev.by_method:
-            recall = {r.category: r.recall for r in m.rows}
-            tm.add_row(
-                safe(m.method),
-                safe(m.noise_level),
-                *(_num(recall.get(c, math.nan)) for c in cats),
-                _num(m.overall.precision),
-            )
-        out.print(tm)
+        _render_by_method(ev)
     if ev.retrieval:
         k_p, k_r = ev.retrieval[0].k_precision, ev.retrieval[0].k_recall
         t6 = Table(title=f"Free-text retrieval, {safe(ev.embedding_model)} (Table VI)", title_justify="left")
@@ -98,6 +86,36 @@ def render_braking(ev: BrakingEvaluation) -> None:
                 _num(row.recall_at_k),
             )
         out.print(t6)
+
+
+def _render_by_method(ev: BrakingEvaluation) -> None:
+    """KeyIdent recall per category by method, then overall recall per noise level by method."""
+    from rich.table import Table
+
+    out = console()
+    methods = list(dict.fromkeys(m.method for m in ev.by_method))
+    by = {(m.method, m.noise_level): m for m in ev.by_method}
+    t = Table(title="KeyIdent recall by method (logs tagged again)", title_justify="left")
+    t.add_column("category", no_wrap=True)
+    for method in methods:
+        t.add_column(safe(method), justify="right", no_wrap=True)
+    for i, row in enumerate(by[(methods[0], "all")].rows):
+        t.add_row(
+            safe(row.category),
+            *(_num(by[(m, "all")].rows[i].recall) for m in methods),
+            style="bold" if row.category == "overall" else None,
+        )
+    t.add_row("precision", *(_num(by[(m, "all")].overall.precision) for m in methods))
+    out.print(t)
+    levels = [lv for lv in dict.fromkeys(m.noise_level for m in ev.by_method) if lv != "all"]
+    if levels:
+        tn = Table(title="KeyIdent recall by noise level", title_justify="left")
+        tn.add_column("noise", no_wrap=True)
+        for method in methods:
+            tn.add_column(safe(method), justify="right", no_wrap=True)
+        for level in levels:
+            tn.add_row(safe(level), *(_num(by[(m, level)].overall.recall) for m in methods))
+        out.print(tn)
 
 
 def _num3(x: float) -> str:
