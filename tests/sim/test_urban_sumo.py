@@ -158,3 +158,26 @@ def test_every_family_gives_a_labelled_log(tmp_path: Path) -> None:
         k = int(np.flatnonzero(log.timestamps_ns == int(row["onset_ns"]))[0])
         g = np.flatnonzero(log.track_ids == row["guest_id"])
         assert g.size == 1 and log.valid[g[0], k], row
+
+
+def test_ingest_takes_the_set_like_real_av2_logs(ped_set: UrbanSetResult, tmp_path: Path) -> None:
+    from scenariominer import api
+
+    store = api.open_store(tmp_path / "store")
+    report = api.ingest([ped_set.out_dir], store)
+    assert report.n_logs_ingested == 1 and not report.failed, report
+    assert store.log_ids() == [ped_set.logs[0].log_id]
+
+
+def test_cli_writes_a_set_and_prints_its_table(tmp_path: Path) -> None:
+    from scenariominer.cli import app
+
+    out = tmp_path / "set"
+    args = ["simulate", "urban", "--out", str(out), "--n", "1", "--seed", "2", "--category", "approach_stop"]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "approach_stop" in result.output and "1 log(s) written, 0 failed" in result.output
+    rows = _rows(out / LABELS_FILE)
+    assert [r["scenario_category"] for r in rows] == ["approach_stop"]
+    assert (out / rows[0]["log_id"] / "city_SE3_egovehicle.feather").is_file()
+    assert not (out / "sumo").exists()  # SUMO's work files are removed unless kept
