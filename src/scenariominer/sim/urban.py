@@ -129,6 +129,7 @@ class UrbanSetResult:
         logs: one result per log, in index order.
         labels_csv: the labels file.
         seconds: wall time.
+        rejections: reason -> number of draws dropped for it (over all logs).
     """
 
     out_dir: Path
@@ -142,11 +143,6 @@ class UrbanSetResult:
     def n_failed(self) -> int:
         """Logs that could not be made."""
         return sum(not r.ok for r in self.logs)
-
-
-@dataclass(frozen=True)
-class _Row:
-    values: tuple[str, ...]
 
 
 def find_sumo_programs() -> tuple[str, str]:
@@ -179,7 +175,7 @@ def _one(
     out_dir: Path,
     programs: tuple[str, str],
     keep_sumo: bool,
-) -> tuple[UrbanLogResult, _Row | None]:
+) -> tuple[UrbanLogResult, tuple[str, ...] | None]:
     sumo, netconvert = programs
     t0 = time.perf_counter()
     noise = noise_for(settings.noise, index)
@@ -203,19 +199,17 @@ def _one(
             except UrbanSimError as exc:
                 rejected.append(str(exc).split(": ", 1)[-1])
                 continue
-            row = _Row(
-                (
-                    written.log_id,
-                    written.guest_id,
-                    family.value,
-                    str(written.start_ns),
-                    str(written.end_ns),
-                    noise.value,
-                    str(written.onset_ns),
-                    scenario.style.value,
-                    str(attempt),
-                    str(written.id_switches),
-                )
+            row = (
+                written.log_id,
+                written.guest_id,
+                family.value,
+                str(written.start_ns),
+                str(written.end_ns),
+                noise.value,
+                str(written.onset_ns),
+                scenario.style.value,
+                str(attempt),
+                str(written.id_switches),
             )
             return (
                 UrbanLogResult(
@@ -289,7 +283,7 @@ def simulate_urban_set(
             result, row = _one(i, families[i % len(families)], settings, out_dir, programs, keep_sumo)
             results.append(result)
             if row is not None:
-                rows.append(row.values)
+                rows.append(row)
             progress.advance(1, f"{result.category.value}: {'ok' if result.ok else 'failed'}")
     finally:
         progress.finish()

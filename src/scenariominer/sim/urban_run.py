@@ -54,7 +54,7 @@ _PERSON_SIZE_M = (0.6, 0.6, 1.75)
 _counter = itertools.count()
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class ObjectTrack:
     """One road user over the run.
 
@@ -71,7 +71,7 @@ class ObjectTrack:
     yaw_rad: FloatArray
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class RunRecord:
     """Everything recorded in one run.
 
@@ -252,11 +252,10 @@ class _Guest:
                 self.acted_s = t_s
 
 
-def _background(scenario: UrbanScenario, conn: Any, rng: np.random.Generator) -> list[tuple[float, str]]:
-    """Schedule the other road users: ``(insertion time, id)``; vehicles are added by SUMO, persons now."""
+def _background(scenario: UrbanScenario, conn: Any, rng: np.random.Generator) -> None:
+    """Schedule the other road users (ids ``bg0``, ``bg1``, ...) at drawn times within the first 30 s."""
     names = list(_TYPES)
     shares = np.asarray([_TYPES[n][5] for n in names])
-    out = []
     for i in range(scenario.n_background):
         bid = f"bg{i}"
         t = float(rng.uniform(0.0, 30.0))
@@ -274,12 +273,20 @@ def _background(scenario: UrbanScenario, conn: Any, rng: np.random.Generator) ->
             a, b = sorted(rng.uniform(30.0, length - 5.0, size=2))
             conn.person.add(bid, edge, pos=float(a), depart=t, typeID="ped")
             conn.person.appendWalkingStage(bid, [edge], arrivalPos=float(min(max(b, a + 10.0), length - 1.0)))
-        out.append((t, bid))
-    return out
 
 
 def run_scenario(scenario: UrbanScenario, net_file: Path, sumo: str, *, with_guest: bool) -> RunRecord:
     """Run ``scenario`` on ``net_file`` with SUMO under TraCI and record every step.
+
+    The run ends 12 s after the ego has left the junction, when it leaves the network, or after
+    :data:`MAX_RUN_S`. SUMO's routes (``urban.rou.xml``) and error log (``sumo.log``) are written
+    beside ``net_file``.
+
+    Args:
+        scenario: what to simulate.
+        net_file: the network built by :func:`~scenariominer.sim.urban_net.build_network`.
+        sumo: path of the ``sumo`` program.
+        with_guest: insert the guest and let it act; ``False`` gives the run without it.
 
     Raises:
         MissingExtraError: traci is not installed.
