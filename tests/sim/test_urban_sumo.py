@@ -181,3 +181,17 @@ def test_cli_writes_a_set_and_prints_its_table(tmp_path: Path) -> None:
     assert [r["scenario_category"] for r in rows] == ["approach_stop"]
     assert (out / rows[0]["log_id"] / "city_SE3_egovehicle.feather").is_file()
     assert not (out / "sumo").exists()  # SUMO's work files are removed unless kept
+
+
+def test_an_earlier_set_is_kept_unless_overwrite_and_then_replaced(tmp_path: Path) -> None:
+    first = simulate_urban_set(tmp_path, UrbanSettings(n=1, seed=2, categories=("approach_stop",)))
+    old_id = first.logs[0].log_id
+    with pytest.raises(UrbanSimError, match="already holds a set.*--overwrite"):
+        simulate_urban_set(tmp_path, UrbanSettings(n=1, seed=4, categories=("approach_stop",)))
+    assert (tmp_path / old_id).is_dir() and _rows(tmp_path / LABELS_FILE)[0]["log_id"] == old_id
+    second = simulate_urban_set(
+        tmp_path, UrbanSettings(n=1, seed=4, categories=("approach_stop",)), overwrite=True
+    )
+    new_id = second.logs[0].log_id
+    assert new_id != old_id and not (tmp_path / old_id).exists() and (tmp_path / new_id).is_dir()
+    assert [r["log_id"] for r in _rows(tmp_path / LABELS_FILE)] == [new_id]

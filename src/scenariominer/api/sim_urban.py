@@ -27,11 +27,13 @@ class UrbanSimRequest:
     Attributes:
         out_dir: output folder (one folder per log and ``labels.csv``).
         settings: number of logs, seed, noise level and categories.
+        overwrite: replace an earlier set in ``out_dir`` (the logs its ``labels.csv`` lists).
         keep_sumo_outputs: keep each log's SUMO network and routes in ``sumo/NNN/``.
     """
 
     out_dir: Path
     settings: UrbanSettings = field(default_factory=UrbanSettings)
+    overwrite: bool = False
     keep_sumo_outputs: bool = False
 
 
@@ -42,9 +44,14 @@ def simulate_urban(request: UrbanSimRequest, progress: Progress | None = None) -
     result and the others are written.
 
     Raises:
-        UrbanSimError: a bad setting (number of logs, noise level, category).
+        UrbanSimError: a bad setting (number of logs, noise level, category), an earlier set in
+            ``out_dir`` without ``overwrite``, SUMO not found.
         MissingExtraError: the ``sim`` extra (sumolib, traci, eclipse-sumo) is not installed.
     """
     return simulate_urban_set(
-        request.out_dir, request.settings, keep_sumo=request.keep_sumo_outputs, progress=progress
+        request.out_dir,
+        request.settings,
+        overwrite=request.overwrite,
+        keep_sumo=request.keep_sumo_outputs,
+        progress=progress,
     )

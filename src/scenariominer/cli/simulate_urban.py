@@ -90,6 +90,10 @@ def urban(
             "obj_crossing, right_ped, approach_stop.",
         ),
     ] = None,
+    overwrite: Annotated[
+        bool,
+        typer.Option("--overwrite", help="Replace an earlier set in OUT (the logs its labels.csv lists)."),
+    ] = False,
     keep_sumo: Annotated[
         bool,
         typer.Option("--keep-sumo-output", help="Keep each log's SUMO network and routes in OUT/sumo/NNN/."),
@@ -107,7 +111,9 @@ def urban(
     from scenariominer.sim.urban import UrbanSettings
 
     settings = UrbanSettings(n=n, seed=seed, noise=noise, categories=tuple(category or ()))
-    request = api.UrbanSimRequest(out_dir=out, settings=settings, keep_sumo_outputs=keep_sumo)
+    request = api.UrbanSimRequest(
+        out_dir=out, settings=settings, overwrite=overwrite, keep_sumo_outputs=keep_sumo
+    )
     with progress_bar(not json_out) as bar:
         report = api.simulate_urban(request, progress=bar)
     if json_out:

@@ -257,13 +257,46 @@ def write_urban_labels(rows: Sequence[Sequence[str]], path: Path) -> Path:
     return path
 
 
+def _remove_old_set(out_dir: Path, overwrite: bool) -> None:
+    """Refuse to write over an earlier set, or (``overwrite``) remove the logs its labels list."""
+    labels = out_dir / LABELS_FILE
+    if not labels.is_file():
+        return
+    if not overwrite:
+        raise UrbanSimError(
+            f"{out_dir} already holds a set ({LABELS_FILE}); choose another folder or use --overwrite "
+            f"(which removes the logs that {LABELS_FILE} lists)"
+        )
+    with labels.open(newline="", encoding="utf-8") as fh:
+        old_ids = [row.get("log_id", "") for row in csv.DictReader(fh)]
+    for log_id in old_ids:
+        folder = out_dir / log_id
+        if log_id and "/" not in log_id and log_id not in (".", "..") and folder.is_dir():
+            shutil.rmtree(folder)
+    labels.unlink()
+
+
 def simulate_urban_set(
-    out_dir: Path, settings: UrbanSettings, *, keep_sumo: bool = False, progress: Progress | None = None
+    out_dir: Path,
+    settings: UrbanSettings,
+    *,
+    overwrite: bool = False,
+    keep_sumo: bool = False,
+    progress: Progress | None = None,
 ) -> UrbanSetResult:
     """Simulate ``settings.n`` labelled urban braking scenarios into ``out_dir``.
 
+    Args:
+        out_dir: output folder (created if needed).
+        settings: number of logs, seed, noise, categories.
+        overwrite: replace an earlier set in ``out_dir`` (its logs listed in ``labels.csv`` are
+            removed first); without it a folder holding ``labels.csv`` is refused.
+        keep_sumo: keep each log's SUMO network, routes and error log in ``sumo/NNN/``.
+        progress: one step per log.
+
     Raises:
-        UrbanSimError: a bad setting, or SUMO cannot be found.
+        UrbanSimError: a bad setting, an earlier set in ``out_dir`` without ``overwrite``, or SUMO
+            cannot be found.
         MissingExtraError: the ``sim`` extra (sumolib, traci, eclipse-sumo) is not installed.
     """
     from scenariominer._optional import require
@@ -273,6 +306,7 @@ def simulate_urban_set(
     require("traci", extra="sim", purpose="simulating urban scenarios with SUMO")
     progress = progress or NullProgress()
     out_dir = Path(out_dir)
+    _remove_old_set(out_dir, overwrite)
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     results: list[UrbanLogResult] = []
