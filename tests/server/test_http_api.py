@@ -257,3 +257,18 @@ def test_graph_build_and_ask_jobs_rank_windows_and_draw_them(client: httpx.Clien
     assert picture.status_code == 200 and picture.content[:8] == b"\x89PNG\r\n\x1a\n"
     refused = client.post("/api/jobs/ask", json={"question": "x", "k": 0})
     assert refused.status_code == 422
+
+
+def test_simulate_urban_job_writes_a_labelled_log_inside_the_data_roots(
+    client: httpx.Client, built_store: Any
+) -> None:
+    outside = client.post("/api/jobs/simulate/urban", json={"out_dir": "/tmp/elsewhere", "n": 1})
+    assert outside.status_code == 403
+    assert client.post("/api/jobs/simulate/highway", json={"out_dir": "/etc/x"}).status_code == 403
+    assert client.post("/api/jobs/simulate/urban", json={"out_dir": "x", "noise": "loud"}).status_code == 422
+    out = built_store.data_root / "sumo-urban"
+    job = client.post("/api/jobs/simulate/urban", json={"out_dir": str(out), "n": 1, "noise": "none"}).json()
+    done = _wait_state(client, job["id"], {"succeeded", "failed"}, timeout_s=300)
+    assert done["state"] == "succeeded", done["error"]
+    assert (out / "labels.csv").is_file()
+    assert len((out / "labels.csv").read_text().strip().splitlines()) == 2  # header + one log

@@ -497,6 +497,11 @@ def _add_job_routes(router: APIRouter, jobs: JobManager, settings: ServerSetting
         """Simulate highway traffic with SUMO (use case ``simulate highway``) into a data-root folder."""
         return submit("simulate_highway", body, ("out_dir",))
 
+    @router.post("/jobs/simulate/urban", tags=["jobs"], status_code=202)
+    def simulate_urban(body: m.SimulateUrbanJob) -> m.JobModel:
+        """Simulate labelled braking scenarios (use case ``simulate urban``) into a data-root folder."""
+        return submit("simulate_urban", body, ("out_dir",))
+
     @router.post("/jobs/graph/build", tags=["jobs"], status_code=202)
     def graph_build(body: m.GraphBuildJob) -> m.JobModel:
         """Describe windows, build the knowledge graph and its summaries (use case ``graph build``)."""

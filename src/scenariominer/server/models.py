@@ -174,6 +174,16 @@ class SimulateHighwayJob(_Strict):
     overwrite: bool = False
 
 
+class SimulateUrbanJob(_Strict):
+    """Simulate labelled braking scenarios with SUMO into AV2 logs (a folder inside the data roots)."""
+
+    out_dir: str = PathStr
+    n: int = Field(default=40, ge=1, le=1000)
+    seed: int = Field(default=0, ge=0)
+    noise: str = Field(default="mixed", pattern="^(none|low|medium|high|mixed)$")
+    overwrite: bool = False
+
+
 class GraphBuildJob(_Strict):
     """Describe the windows, build the knowledge graph, its communities and (optionally) LLM summaries."""
 

@@ -39,6 +39,7 @@ USE_CASE_ROUTES: dict[str, tuple[str, str]] = {
     "recommend": ("POST", "/api/jobs/recommend"),
     "evaluate_cbr": ("POST", "/api/jobs/eval/cbr"),
     "simulate_highway": ("POST", "/api/jobs/simulate/highway"),
+    "simulate_urban": ("POST", "/api/jobs/simulate/urban"),
     "build_graph": ("POST", "/api/jobs/graph/build"),
     "ask": ("POST", "/api/jobs/ask"),
     "evaluate_retrieval": ("POST", "/api/jobs/eval/retrieval"),
@@ -56,5 +57,4 @@ NOT_SERVED: dict[str, str] = {
     "serve_settings": "the model server's settings",
     "store_vacuum": "deletes files: left to an operator at the command line",
     "open_case_base": "a helper of the case base",
-    "simulate_urban": "not served yet: run `scenariominer simulate urban` (a job route is to come)",
 }

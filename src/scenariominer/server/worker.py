@@ -177,6 +177,15 @@ def _simulate_highway(p: Mapping[str, Any], store: Any, cfg: Any, progress: Queu
     return api.simulate_highway(request, progress=progress)
 
 
+def _simulate_urban(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
+    from scenariominer import api
+    from scenariominer.sim.urban import UrbanSettings
+
+    settings = UrbanSettings(n=p["n"], seed=p["seed"], noise=p["noise"])
+    request = api.UrbanSimRequest(Path(p["out_dir"]), settings, overwrite=p.get("overwrite", False))
+    return api.simulate_urban(request, progress=progress)
+
+
 def _graph_build(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
     from scenariominer import api
 
@@ -326,6 +335,7 @@ _RUNNERS: dict[str, _Runner] = {
     "recommend": _recommend,
     "eval_cbr": _eval_cbr,
     "simulate_highway": _simulate_highway,
+    "simulate_urban": _simulate_urban,
     "graph_build": _graph_build,
     "ask": _ask,
     "eval_retrieval": _eval_retrieval,
