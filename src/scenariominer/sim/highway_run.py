@@ -91,12 +91,12 @@ class SumoBinaries:
     sumo_home: str
 
 
-def find_sumo() -> SumoBinaries:
-    """Locate ``sumo`` and ``netconvert`` with :func:`sumolib.checkBinary`.
+def find_sumo(error: type[Exception] = HighwaySimError) -> SumoBinaries:
+    """Locate ``sumo`` and ``netconvert`` with :func:`sumolib.checkBinary` (``SUMO_HOME``, the package).
 
     Raises:
         MissingExtraError: sumolib is not installed.
-        HighwaySimError: a binary cannot be found.
+        HighwaySimError: (or ``error``) a binary cannot be found.
     """
     from scenariominer._optional import require
 
@@ -106,7 +106,7 @@ def find_sumo() -> SumoBinaries:
         path = str(sumolib.checkBinary(name))
         resolved = path if os.path.isfile(path) else shutil.which(path)
         if not resolved:
-            raise HighwaySimError(
+            raise error(
                 f"SUMO's {name!r} program was not found: pip install 'scenariominer[sim]' (eclipse-sumo) "
                 f"or set SUMO_HOME to a SUMO installation"
             )

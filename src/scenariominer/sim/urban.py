@@ -20,7 +20,6 @@ Output folder::
 from __future__ import annotations
 
 import csv
-import os
 import shutil
 import time
 from collections import Counter
@@ -146,26 +145,16 @@ class UrbanSetResult:
 
 
 def find_sumo_programs() -> tuple[str, str]:
-    """Paths of ``sumo`` and ``netconvert`` (:func:`sumolib.checkBinary`: ``SUMO_HOME``, the package).
+    """Paths of ``sumo`` and ``netconvert`` (:func:`scenariominer.sim.highway_run.find_sumo`).
 
     Raises:
         MissingExtraError: sumolib is not installed.
         UrbanSimError: a program cannot be found.
     """
-    from scenariominer._optional import require
+    from scenariominer.sim.highway_run import find_sumo
 
-    sumolib = require("sumolib", extra="sim", purpose="simulating urban scenarios with SUMO")
-    found = []
-    for name in ("sumo", "netconvert"):
-        path = str(sumolib.checkBinary(name))
-        resolved = path if os.path.isfile(path) else shutil.which(path)
-        if not resolved:
-            raise UrbanSimError(
-                f"SUMO's {name!r} program was not found: pip install 'scenariominer[sim]' (eclipse-sumo) "
-                f"or set SUMO_HOME to a SUMO installation"
-            )
-        found.append(resolved)
-    return found[0], found[1]
+    found = find_sumo(UrbanSimError)
+    return found.sumo, found.netconvert
 
 
 def _one(
