@@ -5,7 +5,7 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
-EXTRAS ?= llm,embed,av2eval,mine,ann,sim,represent,cbr,server,dev
+EXTRAS ?= llm,embed,av2eval,mine,ann,sim,represent,cbr,server,ray,dev
 # llama.cpp is built for a portable AVX2 CPU: a native build enables AMX tiles (segfault in decode on
 # some of these machines) and AVX-512 (SIGILL on others).
 LLAMA_CMAKE_ARGS := -DGGML_NATIVE=OFF -DGGML_AVX2=ON -DGGML_FMA=ON -DGGML_F16C=ON -DGGML_AVX512=OFF -DGGML_AMX_INT8=OFF -DGGML_AMX_TILE=OFF

@@ -22,6 +22,7 @@ LAYERS: dict[str, int] = {
     "schema": 0,
     "progress": 0,
     "config": 1,
+    "exec": 1,  # generic: maps a stage's function over items; stages below api take an Executor
     "geometry": 1,
     "data": 2,
     "map": 2,
@@ -37,11 +38,11 @@ LAYERS: dict[str, int] = {
     "represent": 6,
     "cbr": 6,
     "eval": 7,
-    "exec": 7,
     "testing": 7,
     "api": 8,
     "cli": 9,
     "server": 9,
+    "__main__": 9,
 }
 
 

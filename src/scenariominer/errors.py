@@ -96,3 +96,11 @@ class MissingExtraError(ScenarioMinerError, ImportError):
             f"{purpose} needs the Python package {module!r}, which is not installed: "
             f"pip install 'scenariominer[{extra}]'"
         )
+
+
+class ExecutorError(ScenarioMinerError):
+    """The executor itself cannot run (an unknown backend, an unreachable Ray cluster, ...)."""
+
+
+class TransientError(ScenarioMinerError):
+    """A failure worth retrying (a dropped connection, a busy service); executors retry it."""

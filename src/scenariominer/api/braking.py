@@ -11,7 +11,9 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
+from scenariominer.api._exec import executor_for
 from scenariominer.config import Config
 from scenariominer.explain.categories import load_categories
 from scenariominer.explain.pipeline import AnalyzeReport, analyze_store
@@ -21,6 +23,9 @@ from scenariominer.llm.factory import make_chat_client, make_embedder
 from scenariominer.llm.usage import UsageCounter
 from scenariominer.progress import Progress
 from scenariominer.store import ScenarioStore
+
+if TYPE_CHECKING:
+    from scenariominer.exec import Executor
 
 __all__ = ["AnalyzeRequest", "ShowRequest", "analyze", "search", "show"]
 
@@ -52,8 +57,12 @@ def analyze(
     config: Config,
     progress: Progress | None = None,
     usage: UsageCounter | None = None,
+    executor: Executor | None = None,
 ) -> AnalyzeReport:
     """Find braking events, describe, measure and classify them with the LLM, and embed them.
+
+    The rules stage of each log runs on ``executor`` (default: ``config.exec``); the LLM stage
+    runs in this process.
 
     Raises:
         ExplainError: an unusable category file.
@@ -71,17 +80,19 @@ def analyze(
     no_model = request.limit == 0 or cfg.explain.judge == "rules"
     client = None if no_model else make_chat_client(cfg, usage=usage)
     try:
-        return analyze_store(
-            store,
-            cfg,
-            client,
-            embedder,
-            log_ids=request.log_ids,
-            progress=progress,
-            force=request.force,
-            limit=request.limit,
-            categories=categories,
-        )
+        with executor_for(cfg, executor) as runner:
+            return analyze_store(
+                store,
+                cfg,
+                client,
+                embedder,
+                log_ids=request.log_ids,
+                progress=progress,
+                force=request.force,
+                limit=request.limit,
+                categories=categories,
+                executor=runner,
+            )
     finally:
         if client is not None:
             client.close()

@@ -17,13 +17,15 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from scenariominer.api._exec import executor_for
 from scenariominer.config import Config, load_config
 from scenariominer.data.ingest import SourceResult, ingest_sources
 from scenariominer.data.sources import LogReader
 from scenariominer.progress import NullProgress, Progress, step
-from scenariominer.store import ScenarioStore, StoreCheck, StoreInfo, resolve_store_path
+from scenariominer.store import ScenarioStore, StoreCheck, StoreInfo, StoreRef, resolve_store_path
 
 if TYPE_CHECKING:
+    from scenariominer.exec import Executor
     from scenariominer.synth import SynthResult
 
 __all__ = [
@@ -94,6 +96,7 @@ def ingest(
     force: bool = False,
     readers: Sequence[LogReader] | None = None,
     progress: Progress | None = None,
+    executor: Executor | None = None,
 ) -> IngestReport:
     """Read, validate, preprocess and store every log found under ``paths``.
 
@@ -108,6 +111,8 @@ def ingest(
         force: re-ingest even when the content hash is unchanged.
         readers: log readers to try (defaults to the built-in adapters).
         progress: progress sink (a Rich bar in the CLI).
+        executor: where sources are read and committed (default: ``config.exec``, a local
+            process pool); see :mod:`scenariominer.exec`.
 
     Bad input never aborts the batch: a missing path, a path with nothing recognisable, and a source
     that cannot be read or fails validation are reported in ``failed`` with the cause, and every
@@ -115,7 +120,11 @@ def ingest(
     """
     config = config or load_config()
     t0 = time.perf_counter()
-    results = ingest_sources(paths, store, config, force=force, readers=readers, progress=progress)
+    with executor_for(config, executor) as runner:
+        results = ingest_sources(
+            paths, store, config, force=force, readers=readers, progress=progress,
+            executor=runner, reopen=StoreRef.of(store),
+        )  # fmt: skip
     written = [r for r in results if r.status == "ingested"]
     return IngestReport(
         sources=tuple(results),

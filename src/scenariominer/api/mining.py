@@ -9,22 +9,27 @@ Argoverse 2 submission when asked. Nothing here prints.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pyarrow as pa
 
+from scenariominer.api._exec import executor_for
 from scenariominer.api.corpus import ingest
 from scenariominer.config import Config
 from scenariominer.data.log import Log, LogFormatError
 from scenariominer.errors import MiningError
 from scenariominer.llm.usage import UsageCounter
 from scenariominer.mine.export import MATCHES_TABLE, RUNS_TABLE, LogMatches, matches_table, runs_table
-from scenariominer.mine.query import QueryReport, make_synthesizer, mine_logs
+from scenariominer.mine.query import LogFailure, QueryReport, av2_submission, make_synthesizer, mine_logs
 from scenariominer.mine.synthesis import normalize_description
-from scenariominer.store import ScenarioStore
+from scenariominer.store import ScenarioStore, StoreRef
+
+if TYPE_CHECKING:
+    from scenariominer.exec import Executor
 
 #: Column of the mining tables holding the normalised description: the key of their upserts.
 DESCRIPTION_KEY = "description_key"
@@ -33,9 +38,12 @@ __all__ = [
     "DESCRIPTION_KEY",
     "MineRequest",
     "MineResult",
+    "StoreMatches",
     "load_logs",
     "mine",
     "raw_logs_for",
+    "store_log_ids",
+    "store_log_result",
     "store_report",
 ]
 
@@ -82,41 +90,39 @@ class MineResult:
         return bool(r.failures) and not r.matches
 
 
-def mine(request: MineRequest, config: Config, usage: UsageCounter | None = None) -> MineResult:
+def mine(
+    request: MineRequest, config: Config, usage: UsageCounter | None = None, executor: Executor | None = None
+) -> MineResult:
     """Run one mining query end to end (see the module docstring).
 
-    ``usage`` counts the model calls and tokens (for the command's usage table).
+    ``usage`` counts the model calls and tokens (for the command's usage table). With a store,
+    the program runs on each log in the workers of ``executor`` (default: ``config.exec``), which
+    load the log from the store and commit its result at once; logs read from files without a
+    store, and the CLIP-filtered path, run in this process.
 
     Raises:
         MiningError: no logs to mine; a bank, camera-frame or export problem.
         DataError, StoreError, LLMError: unreadable logs, store or model problems.
     """
     from scenariominer.mine.export import read_av2_submission, write_av2_submission
-    from scenariominer.mine.loop import ProgramCache
-    from scenariominer.mine.query import av2_submission, clip_candidates
 
-    mined = load_logs(list(request.logs), request.store, config)
-    if not mined:
-        raise MiningError("no logs to mine: the paths and the store hold no log")
-    candidates = (
-        clip_candidates(request.description, mined, request.camera_frames, config.mining)
-        if request.camera_frames is not None
-        else None
-    )
-    cache = ProgramCache.in_dir(config.llm.cache_dir) if config.mining.generation.cache_programs else None
-    report = mine_logs(
-        request.description,
-        mined,
-        config=config.mining,
-        program=request.program,
-        synthesizer=lambda: make_synthesizer(config, usage=usage),
-        examples=None,
-        use_bank=request.use_bank,
-        cache=cache,
-        candidates=candidates,
-        force=request.force,
-    )
-    stored = store_report(request.store, report) if request.store is not None else []
+    store = request.store
+    with executor_for(config, executor) as runner:
+        if store is not None and request.camera_frames is None:
+            ids = store_log_ids(list(request.logs), store, config, runner)
+            if not ids:
+                raise MiningError("no logs to mine: the paths and the store hold no log")
+            ref = StoreRef.of(store)
+            record = StoreMatches(ref, request.description)
+            report = _mine(request, ids, config, usage, runner, ref.load_log, record)
+            stored = sorted({m.log_id for m in report.matches} | {f.log_id for f in report.failures})
+            mined: Sequence[Log] = [store.load_log(i) for i in ids] if request.export_av2 is not None else []
+        else:
+            mined = load_logs(list(request.logs), store, config)
+            if not mined:
+                raise MiningError("no logs to mine: the paths and the store hold no log")
+            report = _mine(request, mined, config, usage, None, None, None)
+            stored = store_report(store, report) if store is not None else []
     if request.export_av2 is not None:
         timestamps = None
         if request.align_to is not None:
@@ -125,6 +131,92 @@ def mine(request: MineRequest, config: Config, usage: UsageCounter | None = None
         submission = av2_submission(report, raw_logs_for(mined, config), timestamps=timestamps)
         write_av2_submission(submission, request.export_av2)
     return MineResult(report, stored, request.export_av2)
+
+
+def _mine(
+    request: MineRequest,
+    logs: Sequence[Log] | Sequence[str],
+    config: Config,
+    usage: UsageCounter | None,
+    executor: Executor | None,
+    load: Callable[[str], Log] | None,
+    record: Callable[[LogMatches | LogFailure, str], None] | None,
+) -> QueryReport:
+    """The mining stage with the request's program, bank, cache and CLIP settings."""
+    from scenariominer.mine.loop import ProgramCache
+    from scenariominer.mine.query import clip_candidates
+
+    candidates = None
+    if request.camera_frames is not None:
+        in_memory = [x for x in logs if isinstance(x, Log)]
+        candidates = clip_candidates(request.description, in_memory, request.camera_frames, config.mining)
+    cache = ProgramCache.in_dir(config.llm.cache_dir) if config.mining.generation.cache_programs else None
+    return mine_logs(
+        request.description,
+        logs,
+        config=config.mining,
+        program=request.program,
+        synthesizer=lambda: make_synthesizer(config, usage=usage),
+        examples=None,
+        use_bank=request.use_bank,
+        cache=cache,
+        candidates=candidates,
+        force=request.force,
+        executor=executor,
+        load=load,
+        record=record,
+    )
+
+
+def store_log_ids(
+    paths: Sequence[str | Path], store: ScenarioStore, config: Config, executor: Executor | None = None
+) -> list[str]:
+    """Ids of the logs to mine in ``store``: those under ``paths`` (ingested first), else every log.
+
+    Raises:
+        LogFormatError: a source failed to ingest.
+    """
+    if not paths:
+        return store.log_ids()
+    report = ingest(list(paths), store, config, executor=executor)
+    if report.failed:
+        first = report.failed[0]
+        raise LogFormatError(first.key, first.error)
+    return list(dict.fromkeys(log_id for r in report.sources for log_id in r.log_ids))
+
+
+@dataclass(frozen=True)
+class StoreMatches:
+    """Commits one log's mining result to the store where it was mined (picklable, for workers)."""
+
+    store: StoreRef
+    description: str
+
+    def __call__(self, result: LogMatches | LogFailure, program_sha256: str) -> None:
+        """Replace the log's rows of this description with ``result``."""
+        store_log_result(self.store.open(), self.description, program_sha256, result)
+
+
+def store_log_result(
+    store: ScenarioStore, description: str, program_sha256: str, result: LogMatches | LogFailure
+) -> None:
+    """Write one log's matches (or failure) to ``mining_runs`` / ``mining_results`` (keyed upserts)."""
+    key = normalize_description(description)
+    if isinstance(result, LogFailure):
+        empty = LogMatches(
+            result.log_id, description, program_sha256,
+            np.zeros(0, dtype=np.int64), np.zeros(0, dtype=str), np.zeros(0, dtype=str),
+            np.zeros((0, 0), dtype=bool), np.zeros((0, 3), dtype=np.int64),
+        )  # fmt: skip
+        error = result.error.feedback().encode("utf-8", "replace").decode("utf-8")
+        runs = runs_table(empty, status="failed", error=error)
+        store.upsert_table_rows(result.log_id, RUNS_TABLE, _keyed(runs, key), DESCRIPTION_KEY, [key])
+        return
+    store.upsert_table_rows(
+        result.log_id, RUNS_TABLE, _keyed(runs_table(result), key), DESCRIPTION_KEY, [key]
+    )
+    cells = _keyed(matches_table(result), key)
+    store.upsert_table_rows(result.log_id, MATCHES_TABLE, cells, DESCRIPTION_KEY, [key])
 
 
 def store_report(store: ScenarioStore, report: QueryReport) -> list[str]:
@@ -139,23 +231,11 @@ def store_report(store: ScenarioStore, report: QueryReport) -> list[str]:
         The log ids written.
     """
     known = set(store.log_ids())
-    key = normalize_description(report.description)
-    runs: dict[str, pa.Table] = {m.log_id: runs_table(m) for m in report.matches if m.log_id in known}
-    cells = {m.log_id: matches_table(m) for m in report.matches if m.log_id in known}
-    for failure in report.failures:
-        if failure.log_id in known:
-            empty = LogMatches(
-                failure.log_id, report.description, report.program_sha256,
-                np.zeros(0, dtype=np.int64), np.zeros(0, dtype=str), np.zeros(0, dtype=str),
-                np.zeros((0, 0), dtype=bool), np.zeros((0, 3), dtype=np.int64),
-            )  # fmt: skip
-            error = failure.error.feedback().encode("utf-8", "replace").decode("utf-8")
-            runs[failure.log_id] = runs_table(empty, status="failed", error=error)
-    for log_id in sorted(runs):
-        store.upsert_table_rows(log_id, RUNS_TABLE, _keyed(runs[log_id], key), DESCRIPTION_KEY, [key])
-        if log_id in cells:
-            store.upsert_table_rows(log_id, MATCHES_TABLE, _keyed(cells[log_id], key), DESCRIPTION_KEY, [key])
-    return sorted(runs)
+    everything: list[LogMatches | LogFailure] = [*report.matches, *report.failures]
+    results = [r for r in everything if r.log_id in known]
+    for result in sorted(results, key=lambda r: r.log_id):
+        store_log_result(store, report.description, report.program_sha256, result)
+    return sorted({r.log_id for r in results})
 
 
 def _keyed(table: pa.Table, key: str) -> pa.Table:

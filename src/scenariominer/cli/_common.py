@@ -24,13 +24,17 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ConfigOpt",
+    "ExecutorOpt",
     "JsonOpt",
+    "RayAddressOpt",
+    "WorkersOpt",
     "StoreOpt",
     "SafeGroup",
     "console",
     "err_console",
     "load_cfg",
     "settings",
+    "with_exec",
 ]
 
 StoreOpt = Annotated[
@@ -41,6 +45,23 @@ StoreOpt = Annotated[
 ]
 ConfigOpt = Annotated[Path | None, typer.Option("--config", "-c", help="TOML configuration file.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print the result as JSON (for scripts).")]
+ExecutorOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--executor",
+        help="Where the per-log work runs: local (this process), process (a pool of local workers) "
+        "or ray (a Ray cluster). Default: exec.executor (process).",
+    ),
+]
+WorkersOpt = Annotated[
+    int | None, typer.Option("--workers", min=0, help="Workers or concurrent tasks (0: every core).")
+]
+RayAddressOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--ray-address", help="Ray cluster to join: auto, HOST:PORT or ray://HOST:PORT (--executor ray)."
+    ),
+]
 
 
 @dataclass
@@ -81,6 +102,22 @@ def load_cfg(path: Path | None) -> Config:
     from scenariominer.config import load_config
 
     return load_config(path)
+
+
+def with_exec(cfg: Config, executor: str | None, workers: int | None, ray_address: str | None) -> Config:
+    """``cfg`` with the command line's executor options applied (checked like the config file's)."""
+    import dataclasses
+
+    changes: dict[str, Any] = {}
+    if executor is not None:
+        changes["executor"] = executor
+    if workers is not None:
+        changes["workers"] = workers
+    if ray_address is not None:
+        changes["ray_address"] = ray_address
+    if not changes:
+        return cfg
+    return dataclasses.replace(cfg, exec=dataclasses.replace(cfg.exec, **changes))
 
 
 def _report(exc: BaseException) -> int:

@@ -8,7 +8,18 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, err_console, load_cfg
+from scenariominer.cli._common import (
+    ConfigOpt,
+    ExecutorOpt,
+    JsonOpt,
+    RayAddressOpt,
+    StoreOpt,
+    WorkersOpt,
+    console,
+    err_console,
+    load_cfg,
+    with_exec,
+)
 from scenariominer.cli.text import safe
 from scenariominer.schema import Judge, SortKey
 
@@ -87,6 +98,9 @@ def analyze(
         ),
     ] = True,
     json_out: JsonOpt = False,
+    executor: ExecutorOpt = None,
+    workers: WorkersOpt = None,
+    ray_address: RayAddressOpt = None,
 ) -> None:
     """Find braking events, describe, measure and classify them, and embed them.
 
@@ -97,7 +111,7 @@ def analyze(
     from scenariominer.cli.progress import progress_bar
     from scenariominer.llm.usage import UsageCounter, print_usage
 
-    cfg = load_cfg(config)
+    cfg = with_exec(load_cfg(config), executor, workers, ray_address)
     st = api.open_existing_store(store, cfg)
     chosen = "rules" if not llm else (judge.value if judge is not None else None)
     request = api.AnalyzeRequest(

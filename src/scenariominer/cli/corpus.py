@@ -8,7 +8,18 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, err_console, load_cfg
+from scenariominer.cli._common import (
+    ConfigOpt,
+    ExecutorOpt,
+    JsonOpt,
+    RayAddressOpt,
+    StoreOpt,
+    WorkersOpt,
+    console,
+    err_console,
+    load_cfg,
+    with_exec,
+)
 from scenariominer.cli.text import safe
 
 if TYPE_CHECKING:
@@ -75,6 +86,9 @@ def ingest(
     config: ConfigOpt = None,
     force: Annotated[bool, typer.Option(help="Re-ingest unchanged sources too.")] = False,
     json_out: JsonOpt = False,
+    executor: ExecutorOpt = None,
+    workers: WorkersOpt = None,
+    ray_address: RayAddressOpt = None,
 ) -> None:
     """Ingest driving logs into the scenario store (incremental, atomic per log).
 
@@ -84,7 +98,7 @@ def ingest(
     from scenariominer import api
     from scenariominer.cli.progress import progress_bar
 
-    cfg = load_cfg(config)
+    cfg = with_exec(load_cfg(config), executor, workers, ray_address)
     st = api.open_store(store, cfg)
     with progress_bar(not json_out) as bar:
         report = api.ingest(paths, st, cfg, force=force, progress=bar)

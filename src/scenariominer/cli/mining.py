@@ -7,7 +7,17 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from scenariominer.cli._common import ConfigOpt, JsonOpt, console, err_console, load_cfg
+from scenariominer.cli._common import (
+    ConfigOpt,
+    ExecutorOpt,
+    JsonOpt,
+    RayAddressOpt,
+    WorkersOpt,
+    console,
+    err_console,
+    load_cfg,
+    with_exec,
+)
 from scenariominer.cli.text import safe
 from scenariominer.schema import ExportFormat
 
@@ -169,6 +179,9 @@ def mine(
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Regenerate even if the program is cached.")] = False,
     json_out: JsonOpt = False,
+    executor: ExecutorOpt = None,
+    workers: WorkersOpt = None,
+    ray_address: RayAddressOpt = None,
     config: ConfigOpt = None,
 ) -> None:
     """Find a described scenario in driving logs with a (generated) mining program.
@@ -184,7 +197,7 @@ def mine(
     from scenariominer.llm.usage import UsageCounter, print_usage
     from scenariominer.mine.loop import GenerationStatus
 
-    cfg = load_cfg(config)
+    cfg = with_exec(load_cfg(config), executor, workers, ray_address)
     if clip_model is not None:
         clip = replace(cfg.mining.clip, model_path=str(clip_model))
         cfg = replace(cfg, mining=replace(cfg.mining, clip=clip))

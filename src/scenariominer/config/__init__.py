@@ -25,6 +25,7 @@ from typing import Any, TypeVar
 from scenariominer import errors as _errors
 from scenariominer.config.cbr import CbrConfig
 from scenariominer.config.data import IngestConfig, PreprocessConfig, StoreConfig
+from scenariominer.config.exec import ExecConfig
 from scenariominer.config.explain import ExplainConfig
 from scenariominer.config.llm import EmbeddingConfig, LLMConfig
 from scenariominer.config.mining import MiningConfig
@@ -36,6 +37,7 @@ __all__ = [
     "Config",
     "ConfigError",
     "EmbeddingConfig",
+    "ExecConfig",
     "ExplainConfig",
     "IngestConfig",
     "LLMConfig",
@@ -68,6 +70,7 @@ class Config:
     mining: MiningConfig = field(default_factory=MiningConfig)
     represent: RepresentConfig = field(default_factory=RepresentConfig)
     cbr: CbrConfig = field(default_factory=CbrConfig)
+    exec: ExecConfig = field(default_factory=ExecConfig)
 
 
 T = TypeVar("T")

@@ -12,10 +12,10 @@ import hashlib
 import json
 import os
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from scenariominer.config import Config
 from scenariominer.data.log import LOG_SCHEMA_VERSION, Log, LogFormatError
@@ -23,7 +23,10 @@ from scenariominer.data.preprocess import preprocess
 from scenariominer.data.sources import LogReader, LogSource, discover_sources, reader_for
 from scenariominer.progress import NullProgress, Progress, step
 
-__all__ = ["LogSink", "MemorySink", "SourceResult", "ingest_sources", "pipeline_fingerprint"]
+if TYPE_CHECKING:
+    from scenariominer.exec import Executor, ItemOutcome
+
+__all__ = ["IngestTask", "LogSink", "MemorySink", "SourceResult", "ingest_sources", "pipeline_fingerprint"]
 
 
 class LogSink(Protocol):
@@ -112,12 +115,18 @@ def ingest_sources(
     force: bool = False,
     readers: Sequence[LogReader] | None = None,
     progress: Progress | None = None,
+    executor: Executor | None = None,
+    reopen: Callable[[], LogSink] | None = None,
 ) -> list[SourceResult]:
     """Run the ingestion loop over every source found under ``paths``.
 
     Never raises for bad input: a path that does not exist or holds nothing recognisable, and a
     source that cannot be read or fails validation, each become a ``failed`` result naming the
     cause, and the other sources are still ingested.
+
+    With an ``executor`` and ``reopen`` (a picklable function that opens the same sink in a worker,
+    e.g. a :class:`~scenariominer.store.StoreRef`), each source is read, preprocessed and committed
+    by a worker; discovery stays here. Custom ``readers`` always run in this process.
     """
     progress = progress or NullProgress()
     results: list[SourceResult] = []
@@ -134,6 +143,13 @@ def ingest_sources(
         seen.update(s.key for s in found)
         sources += found
     fingerprint = pipeline_fingerprint(config)
+    if executor is not None and reopen is not None and readers is None:
+        task = IngestTask(reopen, config, fingerprint, force)
+        with step(progress, "ingest", len(sources)):
+            outcomes = executor.map(
+                task, sources, keys=[s.key for s in sources], on_outcome=lambda o: _advance(progress, o)
+            )
+        return results + [_source_result(source, o) for source, o in zip(sources, outcomes, strict=True)]
     with step(progress, "ingest", len(sources)):
         for source in sources:
             result = _ingest_one(source, sink, config, fingerprint, force, readers)
@@ -141,6 +157,34 @@ def ingest_sources(
             name = Path(source.key).name
             progress.advance(1, name if result.status == "ingested" else f"{result.status} {name}")
     return results
+
+
+@dataclass(frozen=True)
+class IngestTask:
+    """The worker side of the ingestion loop: read, preprocess and commit one source (picklable)."""
+
+    reopen: Callable[[], LogSink]
+    config: Config
+    fingerprint: str
+    force: bool
+
+    def __call__(self, source: LogSource) -> SourceResult:
+        """Ingest ``source`` into the sink ``reopen`` opens in this worker."""
+        return _ingest_one(source, self.reopen(), self.config, self.fingerprint, self.force, None)
+
+
+def _advance(progress: Progress, outcome: ItemOutcome[SourceResult]) -> None:
+    """Progress after one source came back from a worker."""
+    status = outcome.value.status if outcome.value is not None else "failed"
+    name = Path(outcome.key).name
+    progress.advance(1, name if status == "ingested" else f"{status} {name}")
+
+
+def _source_result(source: LogSource, outcome: ItemOutcome[SourceResult]) -> SourceResult:
+    """The worker's result, or a failed result naming why the worker gave none."""
+    if outcome.value is not None:
+        return outcome.value
+    return SourceResult(source.key, source.format, "failed", error=outcome.error, seconds=outcome.seconds)
 
 
 def _check_utf8_paths(source: LogSource) -> None:

@@ -28,6 +28,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from datetime import UTC, datetime
 from enum import StrEnum
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pyarrow as pa
@@ -57,7 +58,10 @@ from scenariominer.explain.records import (
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder
 from scenariominer.progress import NullProgress, Progress, step
-from scenariominer.store import ScenarioStore, UnknownLogError, UnknownTableError
+from scenariominer.store import ScenarioStore, StoreRef, UnknownLogError, UnknownTableError
+
+if TYPE_CHECKING:
+    from scenariominer.exec import Executor, ItemOutcome
 from scenariominer.store.vectors import embeddings_table
 from scenariominer.tags.engine import LogTags, tag_log
 from scenariominer.tags.stitch import ALIAS_NOTE_PREFIX, stitch_tracks
@@ -466,6 +470,7 @@ def analyze_store(
     force: bool = False,
     limit: int | None = None,
     categories: CategorySet | None = None,
+    executor: Executor | None = None,
 ) -> AnalyzeReport:
     """Explain the braking events of every log in a store (see the module docstring).
 
@@ -480,6 +485,12 @@ def analyze_store(
         limit: at most this many fresh LLM calls in this run (``None`` = no limit).
         categories: the LLM's categories; defaults to ``config.explain.categories_file`` or the
             paper's.
+        executor: runs the rules stage of each log (tags, events, facts, embeddings and their
+            commit) in its workers; each worker builds the configured embedder, which must be
+            the model ``embedder`` names. The LLM stage goes to the workers too when the model
+            is served (a concurrent backend) and there is no ``limit``, with at most
+            ``llm.max_concurrency`` logs in flight; an embedded model answers here, one log
+            after the other (it lives in one process). ``None``: everything runs here.
 
     Returns:
         What happened to each log.
@@ -502,16 +513,41 @@ def analyze_store(
     uses_llm = chat_client is not None and config.explain.judge != "rules"
     results: dict[str, LogAnalysis] = {i: LogAnalysis(i, LogStatus.UNCHANGED) for i in ids if i not in todo}
     fresh = [i for i in todo if runs.get(i, ("", False))[0] != fingerprint]
-    with step(progress, "rules" if uses_llm else "analyze", len(fresh) if uses_llm else len(todo)):
-        for log_id in fresh if uses_llm else todo:  # rule results of every log first, stored at once
-            result = _analyze_and_store(store, log_id, config, categories, None, embedder, 0, fingerprint)
-            results[log_id] = result
-            progress.advance(1, f"{result.status.value} {log_id[:8]} ({result.n_events} events)")
+    rule_ids = fresh if uses_llm else todo  # rule results of every log first, each stored at once
+    with step(progress, "rules" if uses_llm else "analyze", len(rule_ids)):
+        if executor is not None and executor.name != "local":
+            _EMBEDDERS[repr(config.embedding)] = embedder  # items run here reuse it
+            task = RulesTask(StoreRef.of(store), config, categories, fingerprint, embedder.model)
+            outcomes = executor.map(
+                task, rule_ids, keys=rule_ids, on_outcome=lambda o: _rules_done(progress, o)
+            )
+            results.update({o.key: _analysis_of(o) for o in outcomes})
+        else:
+            for log_id in rule_ids:
+                result = _analyze_and_store(store, log_id, config, categories, None, embedder, 0, fingerprint)
+                results[log_id] = result
+                progress.advance(1, _rules_message(result))
     if uses_llm:
         waiting = _pending_counts(store, todo, fingerprint)
         budget = limit
         with step(progress, "LLM", sum(waiting.values())):
-            for log_id in (i for i in todo if waiting.get(i)):
+            llm_ids = [i for i in todo if waiting.get(i)]
+            if _fan_out_llm(chat_client, executor, limit):
+                assert executor is not None
+                assert chat_client is not None
+                _CHAT_CLIENTS[repr(config.llm)] = chat_client  # items run here reuse it
+                _EMBEDDERS[repr(config.embedding)] = embedder
+                llm_task = LLMTask(StoreRef.of(store), config, categories, fingerprint)
+                outcomes = executor.map(
+                    llm_task,
+                    llm_ids,
+                    keys=llm_ids,
+                    max_in_flight=min(executor.workers, config.llm.max_concurrency),
+                    on_outcome=lambda o: progress.advance(waiting[o.key], _llm_message(o)),
+                )
+                results.update({o.key: _analysis_of(o) for o in outcomes})
+                llm_ids = []
+            for log_id in llm_ids:
                 if budget == 0:
                     break
                 result = _analyze_and_store(
@@ -529,6 +565,113 @@ def analyze_store(
                     budget = max(0, budget - result.n_llm_calls)
                 results[log_id] = result
     return AnalyzeReport(tuple(results[i] for i in ids), fingerprint, time.perf_counter() - t_run)
+
+
+@dataclass(frozen=True)
+class RulesTask:
+    """The worker side of the rules stage: analyse one stored log without the LLM (picklable)."""
+
+    store: StoreRef
+    config: Config
+    categories: CategorySet
+    fingerprint: str
+    embedding_model: str
+
+    def __call__(self, log_id: str) -> LogAnalysis:
+        """Analyse ``log_id`` and commit its tags, events, embeddings and runs row."""
+        embedder = _worker_embedder(self.config)
+        if embedder.model != self.embedding_model:
+            raise ValueError(
+                f"the worker's embedder is {embedder.model!r}, the run's {self.embedding_model!r}: "
+                "workers build the embedder from the configuration"
+            )
+        return _analyze_and_store(
+            self.store.open(), log_id, self.config, self.categories, None, embedder, 0, self.fingerprint
+        )
+
+
+@dataclass(frozen=True)
+class LLMTask:
+    """The worker side of the LLM stage against a served model: finish one log's events (picklable).
+
+    The worker builds its own chat client and embedder from the configuration; a fingerprint that
+    differs from the run's (another model or decoding settings) is refused, so every worker answers
+    with the model the run was started with.
+    """
+
+    store: StoreRef
+    config: Config
+    categories: CategorySet
+    fingerprint: str
+
+    def __call__(self, log_id: str) -> LogAnalysis:
+        """Ask the served model about ``log_id``'s pending events and commit the log's results."""
+        client, embedder = _worker_chat_client(self.config), _worker_embedder(self.config)
+        mine = analysis_fingerprint(self.config, self.categories, client, embedder)
+        if mine != self.fingerprint:
+            raise ValueError(
+                f"the worker's model settings give fingerprint {mine}, the run's {self.fingerprint}"
+            )
+        return _analyze_and_store(
+            self.store.open(), log_id, self.config, self.categories, client, embedder, None, self.fingerprint
+        )
+
+
+def _fan_out_llm(client: ChatClient | None, executor: Executor | None, limit: int | None) -> bool:
+    """Whether the LLM stage goes to the executor: a served (concurrent) model, workers, no call budget."""
+    return (
+        client is not None
+        and client.backend.concurrent
+        and executor is not None
+        and executor.name != "local"
+        and limit is None
+    )
+
+
+_CHAT_CLIENTS: dict[str, ChatClient] = {}
+
+
+def _worker_chat_client(config: Config) -> ChatClient:
+    """The chat client of this process for ``config.llm`` (built once per worker)."""
+    from scenariominer.llm.factory import make_chat_client
+
+    key = repr(config.llm)
+    if key not in _CHAT_CLIENTS:
+        _CHAT_CLIENTS[key] = make_chat_client(config)
+    return _CHAT_CLIENTS[key]
+
+
+def _llm_message(outcome: ItemOutcome[LogAnalysis]) -> str:
+    a = _analysis_of(outcome)
+    return f"{a.status.value} {a.log_id[:8]} ({a.n_llm_calls} calls, {a.n_cached} cached)"
+
+
+_EMBEDDERS: dict[str, Embedder] = {}
+
+
+def _worker_embedder(config: Config) -> Embedder:
+    """The embedder of this process for ``config.embedding`` (built once per worker)."""
+    from scenariominer.llm.factory import make_embedder
+
+    key = repr(config.embedding)
+    if key not in _EMBEDDERS:
+        _EMBEDDERS[key] = make_embedder(config)
+    return _EMBEDDERS[key]
+
+
+def _analysis_of(outcome: ItemOutcome[LogAnalysis]) -> LogAnalysis:
+    """The worker's analysis, or a failed one naming why the worker gave none."""
+    if outcome.value is not None:
+        return outcome.value
+    return LogAnalysis(outcome.key, LogStatus.FAILED, seconds=outcome.seconds, error=outcome.error)
+
+
+def _rules_message(result: LogAnalysis) -> str:
+    return f"{result.status.value} {result.log_id[:8]} ({result.n_events} events)"
+
+
+def _rules_done(progress: Progress, outcome: ItemOutcome[LogAnalysis]) -> None:
+    progress.advance(1, _rules_message(_analysis_of(outcome)))
 
 
 def _event_message(outcome: Classification) -> str:

@@ -62,10 +62,12 @@ from scenariominer.mine.sandbox import (
 from scenariominer.mine.synthesis import ProgramSynthesizer, normalize_description
 
 if TYPE_CHECKING:
+    from scenariominer.exec import Executor
     from scenariominer.llm.usage import UsageCounter
 
 __all__ = [
     "LogFailure",
+    "MineLogTask",
     "ProgramSource",
     "QueryReport",
     "av2_submission",
@@ -185,6 +187,17 @@ def _context(log: Log | LogContext, config: MiningConfig) -> LogContext:
     return log if isinstance(log, LogContext) else LogContext(log, config)
 
 
+def _resolve(
+    log: Log | LogContext | str, load: Callable[[str], Log] | None, config: MiningConfig
+) -> LogContext:
+    """The context of a log, a context, or a log id (loaded with ``load``)."""
+    if isinstance(log, str):
+        if load is None:
+            raise ValueError("logs given by id need a load function")
+        return LogContext(load(log), config)
+    return _context(log, config)
+
+
 def _runner(trusted: bool, config: MiningConfig) -> ProgramRunner:
     if trusted:
         return lambda program, ctx, description: run_trusted_program(program, ctx, description=description)
@@ -193,7 +206,7 @@ def _runner(trusted: bool, config: MiningConfig) -> ProgramRunner:
 
 def mine_logs(
     description: str,
-    logs: Sequence[Log | LogContext],
+    logs: Sequence[Log | LogContext | str],
     *,
     config: MiningConfig | None = None,
     program: str | None = None,
@@ -206,6 +219,9 @@ def mine_logs(
     force: bool = False,
     runner: ProgramRunner | None = None,
     on_log: Callable[[str], None] | None = None,
+    executor: Executor | None = None,
+    load: Callable[[str], Log] | None = None,
+    record: Callable[[LogMatches | LogFailure, str], None] | None = None,
 ) -> QueryReport:
     """Mine one description over ``logs`` (see the module docstring for the steps).
 
@@ -227,6 +243,14 @@ def mine_logs(
         runner: run programs (validation and mining) with this function instead of the sandbox
             or the in-process runner chosen by ``trusted`` (tests, benchmarks).
         on_log: called with each log id after it was mined (progress).
+        executor: run the program on the logs in its workers; ``logs`` may then be log ids
+            that ``load`` (a picklable function, e.g. a store's loader) turns into logs in the
+            worker, so the task carries a reference, not the arrays. Only the first
+            ``generation.validation_logs`` are loaded here, when a program must be written.
+            Ignored (everything runs here) with ``candidates`` or a custom ``runner``.
+        load: log id → log, for ``logs`` given as ids.
+        record: called with each log's result and the program's SHA-256 where the log was
+            mined (a worker, with an executor), e.g. to commit it to the store at once.
 
     Raises:
         ValueError: no logs, or no program and no synthesizer.
@@ -235,7 +259,9 @@ def mine_logs(
     cfg = config or MiningConfig()
     if not logs:
         raise ValueError("mine_logs needs at least one log")
-    contexts = [_context(log, cfg) for log in logs]
+    by_id = all(isinstance(log, str) for log in logs)
+    n_valid = cfg.generation.validation_logs
+    contexts = [_resolve(log, load, cfg) for log in logs[:n_valid]]
     generation: GenerationReport | None = None
     consensus: ConsensusReport | None = None
     generation_s = 0.0
@@ -276,27 +302,33 @@ def mine_logs(
         assert generation is not None
         return QueryReport(
             description, source, GenerationStatus.MANUAL_REVIEW, None, attempts, generation_s, 0.0,
-            len(contexts), (), (), generation, candidates is not None,
+            len(logs), (), (), generation, candidates is not None,
         )  # fmt: skip
-    run = runner or _runner(run_in_process, cfg)
-    matches: list[LogMatches] = []
-    failures: list[LogFailure] = []
     t_exec = time.perf_counter()
-    for ctx in contexts:
-        t0 = time.perf_counter()
-        target, cells = ctx, None
-        tracklets = candidates.get(ctx.log_id) if candidates is not None else None
-        if tracklets is not None:
-            target, cells = restrict_context(ctx, candidate_cells(ctx.log, tracklets))
-        result = run(program, target, description)
-        if result.error is not None or result.scenario is None:
-            error = result.error or ProgramError(ErrorKind.INVALID_OUTPUT, "the program returned no scenario")
-            failures.append(LogFailure(ctx.log_id, error))
-        else:
-            scenario = result.scenario if cells is None else result.scenario.restrict(cells)
-            matches.append(LogMatches.from_scenario(scenario, description, program, time.perf_counter() - t0))
-        if on_log is not None:
-            on_log(ctx.log_id)
+    task = MineLogTask(load, cfg, program, run_in_process, description, record)
+    distributed = executor is not None and executor.name != "local" and candidates is None and runner is None
+    if distributed:
+        assert executor is not None
+        items: list[str | Log] = list(logs) if by_id else [_resolve(x, load, cfg).log for x in logs]  # type: ignore[arg-type]
+        keys = [x if isinstance(x, str) else x.log_id for x in items]
+        outcomes = executor.map(
+            task, items, keys=keys, on_outcome=lambda o: on_log(o.key) if on_log else None
+        )
+        results = [o.value if o.value is not None else _failed_item(o.key, o.error) for o in outcomes]
+    else:
+        run = runner or _runner(run_in_process, cfg)
+        results = []
+        for i, log in enumerate(logs):
+            ctx = contexts[i] if i < len(contexts) else _resolve(log, load, cfg)
+            tracklets = candidates.get(ctx.log_id) if candidates is not None else None
+            result = _run_one(run, program, ctx, tracklets, description)
+            if record is not None:
+                record(result, program_sha256(program))
+            results.append(result)
+            if on_log is not None:
+                on_log(ctx.log_id)
+    matches = [r for r in results if isinstance(r, LogMatches)]
+    failures = [r for r in results if isinstance(r, LogFailure)]
     return QueryReport(
         description=description,
         source=source,
@@ -305,13 +337,71 @@ def mine_logs(
         attempts_used=attempts,
         generation_s=generation_s,
         execution_s=time.perf_counter() - t_exec,
-        n_logs=len(contexts),
+        n_logs=len(logs),
         matches=tuple(matches),
         failures=tuple(failures),
         generation=generation,
         filtered=candidates is not None,
         consensus=consensus,
     )
+
+
+def _run_one(
+    run: ProgramRunner,
+    program: str,
+    ctx: LogContext,
+    tracklets: CandidateTracklets | None,
+    description: str,
+) -> LogMatches | LogFailure:
+    """Run the program on one log (restricted to the CLIP candidates when given)."""
+    t0 = time.perf_counter()
+    target, cells = ctx, None
+    if tracklets is not None:
+        target, cells = restrict_context(ctx, candidate_cells(ctx.log, tracklets))
+    result = run(program, target, description)
+    if result.error is not None or result.scenario is None:
+        error = result.error or ProgramError(ErrorKind.INVALID_OUTPUT, "the program returned no scenario")
+        return LogFailure(ctx.log_id, error)
+    scenario = result.scenario if cells is None else result.scenario.restrict(cells)
+    return LogMatches.from_scenario(scenario, description, program, time.perf_counter() - t0)
+
+
+def _failed_item(log_id: str, error: str) -> LogFailure:
+    """A log whose worker gave no result (the log could not be loaded, the worker died)."""
+    return LogFailure(log_id, ProgramError(ErrorKind.RUNTIME, f"the log could not be mined: {error}"))
+
+
+@dataclass(frozen=True)
+class MineLogTask:
+    """The worker side of mining: run one program on one log (picklable).
+
+    Attributes:
+        load: log id → log, for items given as ids (``None`` when items are logs).
+        config: mining configuration.
+        program: the program text.
+        trusted: run in-process (bank programs) instead of in the sandbox.
+        description: the description mined.
+        record: called with the result in the worker (e.g. commit it to the store).
+    """
+
+    load: Callable[[str], Log] | None
+    config: MiningConfig
+    program: str
+    trusted: bool
+    description: str
+    record: Callable[[LogMatches | LogFailure, str], None] | None = None
+
+    def __call__(self, log: str | Log) -> LogMatches | LogFailure:
+        """Mine one log (loaded here when given by id) and record the result."""
+        if isinstance(log, str):
+            if self.load is None:
+                raise ValueError("a log given by id needs a load function")
+            log = self.load(log)
+        ctx = LogContext(log, self.config)
+        result = _run_one(_runner(self.trusted, self.config), self.program, ctx, None, self.description)
+        if self.record is not None:
+            self.record(result, program_sha256(self.program))
+        return result
 
 
 def av2_submission(

@@ -39,6 +39,7 @@ from scenariominer.store.records import (
     StoreCheck,
     StoreInfo,
 )
+from scenariominer.store.ref import StoreRef
 from scenariominer.store.store import (
     ScenarioStore,
 )
@@ -78,6 +79,7 @@ __all__ = [
     "SourceRecord",
     "StoreError",
     "StoreInfo",
+    "StoreRef",
     "StoreVersionError",
     "UnknownLogError",
     "UnknownTableError",
