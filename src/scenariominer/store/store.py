@@ -51,6 +51,7 @@ import pyarrow.parquet as pq
 from scenariominer.data.log import Log
 from scenariominer.store.catalog import (
     _CATALOG_SCHEMA,
+    _TABLE_NAMES_SQL,
     _delete_log_rows,
     _existing_logs,
     _log_rows,
@@ -81,6 +82,7 @@ from scenariominer.store.layout import (
     STORE_FORMAT,
     TRACKS_TABLE,
     _process_alive,
+    _read_parquet,
     _remove_tree,
     _tree_size,
     _write_json_atomic,
@@ -144,14 +146,18 @@ class ScenarioStore:
         marker = self._root / _MARKER
         if self._root.exists() and not self._root.is_dir():
             raise NotAStoreError(self._root, "is a file, not a store directory")
+        if not marker.is_file() and self._root.is_dir():
+            # Writers may create the store at once: another one's marker may be half written
+            # (its temporary file) or appear between the two looks at it.
+            foreign = [p for p in self._root.iterdir() if not _is_marker_temp(p.name)]
+            if foreign and not marker.is_file():
+                raise NotAStoreError(
+                    self._root,
+                    f"directory is not empty and has no {_MARKER}; refusing to use it as a store "
+                    "(choose an empty or new directory)",
+                )
         if marker.is_file():
             self._check_marker(marker)
-        elif self._root.is_dir() and any(self._root.iterdir()):
-            raise NotAStoreError(
-                self._root,
-                f"directory is not empty and has no {_MARKER}; refusing to use it as a store "
-                "(choose an empty or new directory)",
-            )
         elif not create:
             raise NotAStoreError(self._root, "no store here")
         else:
@@ -160,9 +166,10 @@ class ScenarioStore:
                 marker,
                 {"format": STORE_FORMAT, "schema_version": SCHEMA_VERSION, "created_at": _now().isoformat()},
             )
-        if not (self._root / _CATALOG).exists():
-            with contextlib.closing(self._connect()) as con:
-                con.executescript(_CATALOG_SCHEMA)
+        with contextlib.closing(self._connect()) as con:
+            if con.execute("SELECT count(*) FROM sqlite_master WHERE name = 'log_tables'").fetchone()[0] == 0:
+                # One transaction, so a writer opening the store meanwhile never sees half a schema.
+                con.executescript(f"BEGIN IMMEDIATE;{_CATALOG_SCHEMA}COMMIT;")
 
     @classmethod
     def open(cls, root: str | Path, *, create: bool = True) -> ScenarioStore:
@@ -227,10 +234,7 @@ class ScenarioStore:
     def table_names(self) -> list[str]:
         """List the derived table names present in at least one log, sorted (``tracks`` excluded)."""
         with contextlib.closing(self._connect()) as con:
-            rows = con.execute(
-                "SELECT DISTINCT name FROM log_tables WHERE name != ? ORDER BY name", (TRACKS_TABLE,)
-            )
-            return [r[0] for r in rows]
+            return [r[0] for r in con.execute(_TABLE_NAMES_SQL) if r[0] != TRACKS_TABLE]
 
     # ------------------------------------------------------------------ ingestion
     def corpus(self, name: str, schema_version: int = 1) -> CorpusTable:
@@ -397,7 +401,7 @@ class ScenarioStore:
                 raise UnknownLogError(log_id)
             path = self._root / file[0]
             try:
-                table = pq.read_table(path)
+                table = _read_parquet(path)
             except FileNotFoundError:
                 if attempt + 1 < _READ_ATTEMPTS:
                     continue
@@ -548,7 +552,9 @@ class ScenarioStore:
         """
         for attempt in range(_READ_ATTEMPTS):
             snap = self._snapshot(
-                None if name == META_TABLE else [name], with_logs=name == META_TABLE or log_ids is not None
+                None if name == META_TABLE else [name],
+                with_logs=name == META_TABLE or log_ids is not None,
+                log_ids=log_ids,  # only the requested logs' catalog rows: cost independent of store size
             )
             if log_ids is not None:
                 missing = [i for i in log_ids if i not in snap.logs]
@@ -557,15 +563,19 @@ class ScenarioStore:
             if name == META_TABLE:
                 wanted = sorted(snap.logs) if log_ids is None else list(dict.fromkeys(log_ids))
                 return _meta_table([snap.logs[i] for i in wanted], snap)
-            files = snap.tables.get(name)
-            if not files:
+            if name not in snap.table_names:
                 raise UnknownTableError(name, _table_list(snap))
+            files = snap.tables.get(name, {})
             ids = sorted(files) if log_ids is None else [i for i in dict.fromkeys(log_ids) if i in files]
             try:
-                if not ids:
-                    schema = pq.read_schema(self._root / next(iter(files.values())))
-                    return schema.empty_table()
-                parts = [pq.read_table(self._root / files[i]) for i in ids]
+                if not ids:  # none of the requested logs has the table: its columns, no rows
+                    sample = self._any_table_file(name)
+                    if sample is None:  # deleted since the snapshot
+                        if attempt + 1 < _READ_ATTEMPTS:
+                            continue
+                        raise UnknownTableError(name, _table_list(snap))
+                    return pq.read_schema(self._root / sample).empty_table()
+                parts = [_read_parquet(self._root / files[i]) for i in ids]
             except FileNotFoundError:
                 if attempt + 1 < _READ_ATTEMPTS:
                     continue
@@ -732,32 +742,52 @@ class ScenarioStore:
                     con.execute("ROLLBACK")
                 raise
 
+    def _any_table_file(self, name: str) -> str | None:
+        """One file of table ``name`` (relative to the root), or ``None`` when no log has it."""
+        with contextlib.closing(self._connect()) as con:
+            row = con.execute("SELECT file FROM log_tables WHERE name = ? LIMIT 1", (name,)).fetchone()
+        return None if row is None else str(row[0])
+
     def _generation(self) -> int:
         with contextlib.closing(self._connect()) as con:
             return int(con.execute("SELECT value FROM state WHERE key = 'generation'").fetchone()[0])
 
-    def _snapshot(self, names: Collection[str] | None = None, *, with_logs: bool = True) -> _Snapshot:
+    def _snapshot(
+        self,
+        names: Collection[str] | None = None,
+        *,
+        with_logs: bool = True,
+        log_ids: Sequence[str] | None = None,
+    ) -> _Snapshot:
         """Read the catalog in one transaction.
 
         Args:
             names: list only these tables' files (``None``: all tables).
-            with_logs: also read every log's catalog row (needed for ``meta`` and log checks).
+            with_logs: also read the logs' catalog rows (needed for ``meta`` and log checks).
+            log_ids: read only these logs' rows and files (``None``: every log); an index lookup
+                per id, so reading a few logs costs the same in a store of any size.
         """
+        in_ids = "log_id IN (SELECT value FROM json_each(?))"
+        id_param = () if log_ids is None else (json.dumps(list(log_ids)),)
         with contextlib.closing(self._connect()) as con:
             con.execute("BEGIN")
             generation = int(con.execute("SELECT value FROM state WHERE key = 'generation'").fetchone()[0])
             n_sources = int(con.execute("SELECT count(*) FROM sources").fetchone()[0])
             logs: dict[str, _LogRow] = {}
             if with_logs:
-                rows = con.execute("SELECT log_id, source_key, dir, digest, meta FROM logs ORDER BY log_id")
+                rows = con.execute(
+                    "SELECT log_id, source_key, dir, digest, meta FROM logs"
+                    f"{'' if log_ids is None else ' WHERE ' + in_ids} ORDER BY log_id",
+                    id_param,
+                )
                 logs = {r[0]: _LogRow(*r) for r in rows}
-            all_names = tuple(r[0] for r in con.execute("SELECT DISTINCT name FROM log_tables ORDER BY name"))
+            all_names = tuple(r[0] for r in con.execute(_TABLE_NAMES_SQL))
             wanted = [n for n in all_names if names is None or n in names]
             tables: dict[str, dict[str, str]] = {}
             rows = con.execute(
-                "SELECT log_id, name, file FROM log_tables WHERE name IN (SELECT value FROM json_each(?)) "
-                "ORDER BY log_id",
-                (json.dumps(wanted),),
+                "SELECT log_id, name, file FROM log_tables WHERE name IN (SELECT value FROM json_each(?))"
+                f"{'' if log_ids is None else ' AND ' + in_ids} ORDER BY log_id",
+                (json.dumps(wanted), *id_param),
             )
             for log_id, name, file in rows:
                 tables.setdefault(name, {})[log_id] = file
@@ -819,3 +849,8 @@ class ScenarioStore:
 
 
 # ---------------------------------------------------------------------- helpers
+
+
+def _is_marker_temp(name: str) -> bool:
+    """Whether ``name`` is a temporary file of a marker being written (see ``_write_json_atomic``)."""
+    return name.startswith(f".{_MARKER}.") and name.endswith(".tmp")
