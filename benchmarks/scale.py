@@ -80,6 +80,10 @@ def main() -> None:
         help="hashing: model-free (measures the pipeline); default: the configured sentence-transformers",
     )  # fmt: skip
     parser.add_argument("--workers", type=int, default=8, help="W of the projection (workers of a cluster)")
+    parser.add_argument(
+        "--real-log", type=Path, default=Path(__file__).resolve().parents[2] / "shared/data/av2",
+        help="real Argoverse 2 log(s) whose per-log cost (in process) is compared with a synthetic log's",
+    )  # fmt: skip
     args = parser.parse_args()
 
     work = Path(tempfile.mkdtemp(prefix="sm-bench-scale-"))
@@ -135,10 +139,32 @@ def main() -> None:
     for stage in STAGES:
         core_s = results["process x2"][stage] * 2 / args.n * 1000
         print(f"{stage:<16}{core_s:>18.0f}{core_s / args.workers / 60:>26.1f}")
+    if args.real_log.exists():
+        _real_log_costs(work, args.real_log, logs, config)
     if args.ray:
         import ray
 
         ray.shutdown()
+
+
+def _real_log_costs(work: Path, real: Path, synth: Path, config: Config) -> None:
+    """Per-log ingest and rules-analysis time in process, a real log against one synthetic log (warm)."""
+    one_synth = next(p for p in sorted(synth.iterdir()) if p.is_dir())
+    print(f"\nper-log cost in process (warm), real log(s) under {real} against one synthetic log:")
+    for name, source in [("synthetic", one_synth), ("real", real)]:
+        costs = []
+        for attempt in range(2):  # the first pays the imports; the second is reported
+            store = api.open_store(work / f"{name}-{attempt}", config)
+            t = time.perf_counter()
+            api.ingest([source], store, config, executor=InlineExecutor())
+            ingest_s = time.perf_counter() - t
+            t = time.perf_counter()
+            api.analyze(store, api.AnalyzeRequest(judge="rules"), config, executor=InlineExecutor())
+            analyze_s = time.perf_counter() - t
+            n_logs, n_cells = len(store.log_ids()), store.info().n_frames
+            costs = [ingest_s / n_logs, analyze_s / n_logs]
+        print(f"  {name:<10} {n_cells / n_logs:>8,.0f} cells/log  ingest {costs[0] * 1000:6.0f} ms/log  "
+              f"analyze {costs[1] * 1000:6.0f} ms/log")  # fmt: skip
 
 
 if __name__ == "__main__":

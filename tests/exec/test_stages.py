@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+from collections.abc import Callable
 from pathlib import Path
 
 import pyarrow as pa
@@ -98,24 +99,25 @@ def test_ray_stores_what_the_local_executor_stores(
     _assert_same(_run_all(tmp_path / "store", logs_dir, config, ray_executor), reference)
 
 
-class _KillAWorker:
-    """A progress sink that SIGKILLs the pool's workers when the first item has come back.
+class _Killer:
+    """A progress sink that SIGKILLs the processes ``victims()`` names once an item has come back.
 
-    The other worker is then almost always in the middle of an item (the driver hands out the next
-    item only after this callback), which dies with it; the assertions hold either way.
+    With the pool, the other worker is then almost always in the middle of an item (the driver hands
+    out the next item only after this callback), which dies with it; the assertions hold either
+    way. If ``victims()`` names none at one item, the next item tries again.
     """
 
-    def __init__(self, executor: ProcessExecutor) -> None:
-        self.executor = executor
+    def __init__(self, victims: Callable[[], list[int]]) -> None:
+        self.victims = victims
         self.killed: list[int] = []
 
     def start(self, description: str, total: int | None) -> None:
         """Nothing to do."""
 
     def advance(self, n: int = 1, message: str | None = None) -> None:
-        """Kill the workers once."""
+        """Kill the victims once."""
         if not self.killed:
-            for pid in self.executor.worker_pids():
+            for pid in self.victims():
                 os.kill(pid, signal.SIGKILL)
                 self.killed.append(pid)
 
@@ -128,7 +130,7 @@ def test_a_killed_worker_loses_nothing_and_a_rerun_completes_only_the_missing_so
 ) -> None:
     store = api.open_store(tmp_path / "store", config)
     ex = ProcessExecutor(2, retries=0, min_items=1)  # no retries: the killed pool's items fail
-    killer = _KillAWorker(ex)
+    killer = _Killer(ex.worker_pids)
     try:
         first = api.ingest([logs_dir], store, config, executor=ex, progress=killer)
     finally:
@@ -157,7 +159,7 @@ def test_with_retries_a_killed_worker_is_invisible_to_the_user(
 ) -> None:
     store = api.open_store(tmp_path / "store", config)
     ex = ProcessExecutor(2, retries=2, min_items=1)
-    killer = _KillAWorker(ex)
+    killer = _Killer(ex.worker_pids)
     try:
         report = api.ingest([logs_dir], store, config, executor=ex, progress=killer)
     finally:
@@ -181,32 +183,12 @@ def _ray_task_pids() -> list[int]:
     return pids
 
 
-class _KillRayWorkers:
-    """A progress sink that SIGKILLs the Ray workers busy with a task when the first item is back."""
-
-    def __init__(self) -> None:
-        self.killed: list[int] = []
-
-    def start(self, description: str, total: int | None) -> None:
-        """Nothing to do."""
-
-    def advance(self, n: int = 1, message: str | None = None) -> None:
-        """Kill the busy workers once (at a later item if none is busy at this one)."""
-        if not self.killed:
-            for pid in _ray_task_pids():
-                os.kill(pid, signal.SIGKILL)
-                self.killed.append(pid)
-
-    def finish(self) -> None:
-        """Nothing to do."""
-
-
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="finds Ray's workers through /proc")
 def test_ray_retries_the_tasks_of_a_killed_worker(
     tmp_path: Path, logs_dir: Path, config: Config, reference: dict[str, object], ray_executor: Executor
 ) -> None:
     store = api.open_store(tmp_path / "store", config)
-    killer = _KillRayWorkers()
+    killer = _Killer(_ray_task_pids)
     report = api.ingest([logs_dir], store, config, executor=ray_executor, progress=killer)
     assert killer.killed  # a worker was busy and was killed
     # A task killed after its commit finds its source stored when Ray runs it again ("skipped").
@@ -223,7 +205,7 @@ def test_a_killed_analyze_worker_loses_nothing_and_a_rerun_analyses_only_the_mis
     store = api.open_store(tmp_path / "store", config)
     api.ingest([logs_dir], store, config, executor=InlineExecutor())
     ex = ProcessExecutor(2, retries=0, min_items=1)
-    killer = _KillAWorker(ex)
+    killer = _Killer(ex.worker_pids)
     try:
         first = api.analyze(store, api.AnalyzeRequest(judge="rules"), config, progress=killer, executor=ex)
     finally:

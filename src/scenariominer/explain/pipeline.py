@@ -28,7 +28,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from datetime import UTC, datetime
 from enum import StrEnum
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import pyarrow as pa
@@ -516,7 +516,7 @@ def analyze_store(
     rule_ids = fresh if uses_llm else todo  # rule results of every log first, each stored at once
     with step(progress, "rules" if uses_llm else "analyze", len(rule_ids)):
         if executor is not None and executor.name != "local":
-            _EMBEDDERS[repr(config.embedding)] = embedder  # items run here reuse it
+            _MODELS[_embedder_key(config)] = embedder  # items run in this process reuse it
             task = RulesTask(StoreRef.of(store), config, categories, fingerprint, embedder.model)
             outcomes = executor.map(
                 task, rule_ids, keys=rule_ids, on_outcome=lambda o: _rules_done(progress, o)
@@ -535,8 +535,8 @@ def analyze_store(
             if _fan_out_llm(chat_client, executor, limit):
                 assert executor is not None
                 assert chat_client is not None
-                _CHAT_CLIENTS[repr(config.llm)] = chat_client  # items run here reuse it
-                _EMBEDDERS[repr(config.embedding)] = embedder
+                _MODELS[_chat_key(config)] = chat_client  # items run in this process reuse them
+                _MODELS[_embedder_key(config)] = embedder
                 llm_task = LLMTask(StoreRef.of(store), config, categories, fingerprint)
                 outcomes = executor.map(
                     llm_task,
@@ -628,35 +628,41 @@ def _fan_out_llm(client: ChatClient | None, executor: Executor | None, limit: in
     )
 
 
-_CHAT_CLIENTS: dict[str, ChatClient] = {}
+def _llm_message(outcome: ItemOutcome[LogAnalysis]) -> str:
+    a = _analysis_of(outcome)
+    return f"{a.status.value} {a.log_id[:8]} ({a.n_llm_calls} calls, {a.n_cached} cached)"
+
+
+#: Models built by this process's tasks, by kind and settings: a worker builds each once.
+_MODELS: dict[str, Any] = {}
+
+
+def _chat_key(config: Config) -> str:
+    return f"chat:{config.llm!r}"
+
+
+def _embedder_key(config: Config) -> str:
+    return f"embedder:{config.embedding!r}"
 
 
 def _worker_chat_client(config: Config) -> ChatClient:
     """The chat client of this process for ``config.llm`` (built once per worker)."""
     from scenariominer.llm.factory import make_chat_client
 
-    key = repr(config.llm)
-    if key not in _CHAT_CLIENTS:
-        _CHAT_CLIENTS[key] = make_chat_client(config)
-    return _CHAT_CLIENTS[key]
-
-
-def _llm_message(outcome: ItemOutcome[LogAnalysis]) -> str:
-    a = _analysis_of(outcome)
-    return f"{a.status.value} {a.log_id[:8]} ({a.n_llm_calls} calls, {a.n_cached} cached)"
-
-
-_EMBEDDERS: dict[str, Embedder] = {}
+    return cast(ChatClient, _per_process(_chat_key(config), lambda: make_chat_client(config)))
 
 
 def _worker_embedder(config: Config) -> Embedder:
     """The embedder of this process for ``config.embedding`` (built once per worker)."""
     from scenariominer.llm.factory import make_embedder
 
-    key = repr(config.embedding)
-    if key not in _EMBEDDERS:
-        _EMBEDDERS[key] = make_embedder(config)
-    return _EMBEDDERS[key]
+    return cast(Embedder, _per_process(_embedder_key(config), lambda: make_embedder(config)))
+
+
+def _per_process(key: str, build: Callable[[], Any]) -> Any:
+    if key not in _MODELS:
+        _MODELS[key] = build()
+    return _MODELS[key]
 
 
 def _analysis_of(outcome: ItemOutcome[LogAnalysis]) -> LogAnalysis:
