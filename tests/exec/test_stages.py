@@ -1,5 +1,5 @@
-"""``ingest``, ``analyze`` and ``mine`` give identical stored results on every executor, and a killed
-worker loses nothing committed (a re-run completes only what is missing)."""
+"""``ingest``, ``analyze``, ``mine`` and ``embed windows`` give identical stored results on every
+executor, and a killed worker loses nothing committed (a re-run completes only what is missing)."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import signal
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import pyarrow as pa
 import pyarrow.compute as pc
 import pytest
@@ -17,6 +18,7 @@ from scenariominer.config import Config, load_config
 from scenariominer.exec import InlineExecutor, ProcessExecutor
 from scenariominer.exec.base import Executor
 from scenariominer.mine.programs import load_examples
+from scenariominer.represent.window_table import load_windows
 from scenariominer.store import ScenarioStore
 
 N_LOGS = 10
@@ -62,7 +64,11 @@ def _run_all(root: Path, logs_dir: Path, config: Config, executor: Executor) -> 
     for description, text in [(BANK_QUERY, None), (SANDBOXED, program)]:
         result = api.mine(api.MineRequest(description, store=store, program=text), config, executor=executor)
         assert not result.report.failures and result.report.n_logs == N_LOGS
+    windows = api.build_windows(store, api.WindowsRequest(), config, executor=executor)
+    assert windows.n_built == N_LOGS and not windows.failed
+    cut = load_windows(store)
     return {
+        "windows": {f: getattr(cut, f) for f in ("window_ids", "agent_ids", "track_ids", "xy_m", "valid")},
         "logs": {i: store.load_log(i).to_arrow() for i in store.log_ids()},
         **{name: _table(store, name) for name in ("events", "tags", "mining_results", "mining_runs")},
     }
@@ -75,6 +81,8 @@ def reference(tmp_path_factory: pytest.TempPathFactory, logs_dir: Path, config: 
 
 def _assert_same(got: dict[str, object], want: dict[str, object]) -> None:
     assert got.keys() == want.keys()
+    for field, array in want["windows"].items():  # type: ignore[attr-defined]
+        assert array.size > 0 and np.array_equal(got["windows"][field], array), field  # type: ignore[index]
     assert got["logs"].keys() == want["logs"].keys()  # type: ignore[attr-defined]
     for log_id, table in want["logs"].items():  # type: ignore[attr-defined]
         assert got["logs"][log_id].equals(table), log_id  # type: ignore[index]

@@ -10,7 +10,9 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
+from scenariominer.api._exec import executor_for
 from scenariominer.config import Config
 from scenariominer.progress import Progress
 from scenariominer.represent.pipeline import WindowsReport, build_store_windows
@@ -26,6 +28,9 @@ from scenariominer.represent.stages import (
     train_store_embedder,
 )
 from scenariominer.store import ScenarioStore
+
+if TYPE_CHECKING:
+    from scenariominer.exec import Executor
 
 __all__ = [
     "ApplyRequest",
@@ -83,17 +88,29 @@ def window_config(request: WindowsRequest, config: Config) -> Config:
 
 
 def build_windows(
-    store: ScenarioStore, request: WindowsRequest, config: Config, progress: Progress | None = None
+    store: ScenarioStore,
+    request: WindowsRequest,
+    config: Config,
+    progress: Progress | None = None,
+    executor: Executor | None = None,
 ) -> WindowsReport:
     """Cut stored logs into windows (only logs whose windows are missing or stale, unless rebuilding).
+
+    Logs are loaded and cut on ``executor`` (default: ``config.exec``).
 
     Raises:
         ConfigError: invalid window settings in the request.
     """
     cfg = window_config(request, config)
-    return build_store_windows(
-        store, cfg.represent.windows, log_ids=request.log_ids, rebuild=request.rebuild, progress=progress
-    )
+    with executor_for(config, executor) as runner:
+        return build_store_windows(
+            store,
+            cfg.represent.windows,
+            log_ids=request.log_ids,
+            rebuild=request.rebuild,
+            progress=progress,
+            executor=runner,
+        )
 
 
 def _replace_section(config: Config, section: str, **changes: object) -> Config:

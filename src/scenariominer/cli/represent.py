@@ -7,7 +7,17 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, load_cfg
+from scenariominer.cli._common import (
+    ConfigOpt,
+    ExecutorOpt,
+    JsonOpt,
+    RayAddressOpt,
+    StoreOpt,
+    WorkersOpt,
+    console,
+    load_cfg,
+    with_exec,
+)
 from scenariominer.cli.progress import progress_bar
 from scenariominer.cli.text import safe
 
@@ -56,6 +66,9 @@ def windows(
         bool, typer.Option("--rebuild", help="Re-cut logs whose windows are current.")
     ] = False,
     json_out: JsonOpt = False,
+    executor: ExecutorOpt = None,
+    workers: WorkersOpt = None,
+    ray_address: RayAddressOpt = None,
 ) -> None:
     """Cut stored logs into windows of an agent and its nearest road users (only new or changed logs)."""
     import dataclasses
@@ -63,7 +76,7 @@ def windows(
 
     from scenariominer import api
 
-    cfg = load_cfg(config)
+    cfg = with_exec(load_cfg(config), executor, workers, ray_address)
     st = api.open_existing_store(store, cfg)
     request = api.WindowsRequest(
         log_ids=log or None, lengths_s=length or None, overlap=overlap, agents=agents, rebuild=rebuild
