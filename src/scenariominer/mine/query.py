@@ -259,7 +259,6 @@ def mine_logs(
     cfg = config or MiningConfig()
     if not logs:
         raise ValueError("mine_logs needs at least one log")
-    by_id = all(isinstance(log, str) for log in logs)
     n_valid = cfg.generation.validation_logs
     contexts = [_resolve(log, load, cfg) for log in logs[:n_valid]]
     generation: GenerationReport | None = None
@@ -309,7 +308,7 @@ def mine_logs(
     distributed = executor is not None and executor.name != "local" and candidates is None and runner is None
     if distributed:
         assert executor is not None
-        items: list[str | Log] = list(logs) if by_id else [_resolve(x, load, cfg).log for x in logs]  # type: ignore[arg-type]
+        items = [x.log if isinstance(x, LogContext) else x for x in logs]  # ids stay ids: loaded by workers
         keys = [x if isinstance(x, str) else x.log_id for x in items]
         outcomes = executor.map(
             task, items, keys=keys, on_outcome=lambda o: on_log(o.key) if on_log else None
