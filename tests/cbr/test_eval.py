@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -117,3 +120,61 @@ def test_default_grid_is_the_papers_comparison() -> None:
     labels = [g.label for g in default_grid()]
     assert len(labels) == 14 and len(set(labels)) == 14
     assert labels[:4] == ["aware/k0", "aware/similarity/k3", "aware/random/k3", "unaware/k0"]
+
+
+@pytest.mark.skipif(shutil.which("java") is None, reason="METEOR's jar needs Java")
+def test_text_metrics_score_meteor_and_leave_no_noise_on_stderr() -> None:
+    """METEOR's jar is started, scored and shut down; nothing is printed when Python exits."""
+    pytest.importorskip("pycocoevalcap")
+    script = (
+        "from scenariominer.eval.cbr import text_metrics\n"
+        "s, notes = text_metrics(['the car brakes hard', 'a truck cuts in'],"
+        " ['the car brakes', 'a van cuts in from the left'])\n"
+        "print(sorted(s), notes)\n"
+        "import gc; gc.collect()\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "METEOR" in done.stdout and "unavailable" not in done.stdout
+    assert "Exception ignored" not in done.stderr and "Traceback" not in done.stderr, done.stderr
+
+
+def test_rendered_grid_has_one_row_per_configuration_and_marks_unfinished_ones(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """At 100 columns every configuration's label, accuracy and rollout rate are printed whole."""
+    import io
+
+    from rich.console import Console
+
+    from scenariominer.cli import _common
+    from scenariominer.cli.cbr import render_eval
+
+    base = case_base(tmp_path)
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    grid = [RecommendSettings(k=0), RecommendSettings(k=1, risk_aware=False, selection="random")]
+    ticks = iter([0.0] * 6 + [100.0] * 20)
+    ev = evaluate_cbr_grid(
+        base,
+        _holdout(),
+        results,
+        ChatClient(ScriptedBackend([answer("emergency_braking")] * 4)),
+        EMBEDDER,
+        grid,
+        time_budget_s=10.0,
+        with_text=False,
+        clock=lambda: next(ticks),
+    )
+    assert ev.configs[0].complete and not ev.configs[1].complete
+    buf = io.StringIO()
+    monkeypatch.setitem(_common._consoles, "out", Console(file=buf, width=100))
+    render_eval(ev)
+    out = buf.getvalue()
+    lines: dict[str, str] = {}  # label -> its row in the first (accuracy) table
+    for ln in out.splitlines():
+        if ln.count("│") > 2:
+            lines.setdefault(ln.split("│")[1].strip(), ln)
+    first, second = ev.configs[0].label, ev.configs[1].label + " *"
+    assert first in lines and second in lines
+    assert "0.67" in lines[first]  # overall accuracy 2/3 of the first configuration
+    assert "not every hold-out case answered yet" in out

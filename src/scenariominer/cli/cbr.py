@@ -251,21 +251,34 @@ def render_eval(ev: CbrEvaluation) -> None:
     acc = Table(
         title=f"CBR evasive manoeuvre micro-accuracy on the hold-out split ({ev.model})", title_justify="left"
     )
-    acc.add_column("risk type")
-    for c in ev.configs:
-        acc.add_column(c.label + ("" if c.complete else " *"), justify="right")
+    acc.add_column("configuration", no_wrap=True)
     for rt in ev.risk_types:
-        acc.add_row(rt, *[_num(c.per_type.get(rt, math.nan)) for c in ev.configs])
-    acc.add_row("overall", *[_num(c.accuracy) for c in ev.configs])
-    acc.add_row("answered", *[f"{c.n_answered}/{c.n_cases}" for c in ev.configs])
-    acc.add_row("invalid", *[str(c.n_invalid) for c in ev.configs])
-    acc.add_row("rollout success", *[_num(c.rollout_success) for c in ev.configs])
-    acc.add_row("s / recommendation", *[_num(c.seconds_per_call) for c in ev.configs])
+        acc.add_column(rt.replace("_", " "), justify="right", min_width=4)
+    acc.add_column("overall", justify="right")
+    for c in ev.configs:
+        acc.add_row(
+            safe(c.label) + ("" if c.complete else " *"),
+            *[_num(c.per_type.get(rt, math.nan)) for rt in ev.risk_types],
+            _num(c.accuracy),
+        )
     console().print(acc)
+    run = Table(title="answers and rollout check", title_justify="left")
+    run.add_column("configuration", no_wrap=True)
+    for head in ("answered", "invalid", "rollout success", "s / recommendation"):
+        run.add_column(head, justify="right")
+    for c in ev.configs:
+        run.add_row(
+            safe(c.label) + ("" if c.complete else " *"),
+            f"{c.n_answered}/{c.n_cases}",
+            str(c.n_invalid),
+            _num(c.rollout_success),
+            _num(c.seconds_per_call),
+        )
+    console().print(run)
     metrics = sorted({m for c in ev.configs for f in c.text.values() for m in f})
     if metrics:
         txt = Table(title="text metrics (x100) against the hold-out references", title_justify="left")
-        txt.add_column("configuration")
+        txt.add_column("configuration", no_wrap=True)
         for f in ("event_context", "justification"):
             for m in metrics:
                 txt.add_column(f"{f[:5]} {m}", justify="right")
@@ -279,9 +292,12 @@ def render_eval(ev: CbrEvaluation) -> None:
         console().print(txt)
     for n in ev.metric_notes:
         console().print(f"[yellow]{safe(n)}[/yellow]", soft_wrap=True)
+    unfinished = any(not c.complete for c in ev.configs)
     console().print(
         f"hold-out {ev.n_holdout} cases, case base {ev.n_case_base} cases; {ev.fresh_calls} fresh model "
-        f"calls, {ev.seconds:.0f} s. * = not every hold-out case answered yet (run again to continue)."
+        f"calls, {ev.seconds:.0f} s."
+        + (" * = not every hold-out case answered yet (run again to continue)." if unfinished else ""),
+        soft_wrap=True,
     )
 
 

@@ -206,7 +206,8 @@ def _close_meteor(meteor: Any) -> None:
         proc.stdout.close()
     if proc.stderr:
         proc.stderr.close()
-    meteor.meteor_p = None
+    # The finished process stays on the object: pycocoevalcap's own __del__ closes and kills it
+    # again, which is harmless on a closed, reaped process (and raised when it found None).
 
 
 def _key(model: str, base_version: int, label: str, case_id: str) -> str:
