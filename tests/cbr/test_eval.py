@@ -13,7 +13,7 @@ from scenariominer.cbr.build import HoldoutCase
 from scenariominer.cbr.cases import Case
 from scenariominer.cbr.recommend import RecommendSettings
 from scenariominer.cbr.vocab import CbrError
-from scenariominer.eval.cbr import default_grid, evaluate_cbr_grid
+from scenariominer.eval.cbr import baseline_rows, default_grid, evaluate_cbr_grid
 from scenariominer.llm.client import ChatClient
 from scenariominer.store import ScenarioStore
 from scenariominer.testing import ScriptedBackend
@@ -178,3 +178,47 @@ def test_rendered_grid_has_one_row_per_configuration_and_marks_unfinished_ones(
     assert first in lines and second in lines
     assert "0.67" in lines[first]  # overall accuracy 2/3 of the first configuration
     assert "not every hold-out case answered yet" in out
+
+
+def test_model_free_baselines_answer_the_majority_and_the_neighbours_vote(tmp_path: Path) -> None:
+    base = case_base(tmp_path)  # vehicle_ahead: braking x2, steering left x1; pedestrian: braking x2
+
+    def hc(cid: str, risk: str, caption: str, truth: str) -> HoldoutCase:
+        return HoldoutCase(Case(cid, risk, caption, manoeuvre=truth), {truth: True}, {truth: 1.0})
+
+    holdout = [
+        hc(
+            "v1",
+            "vehicle_ahead",
+            "a stopped truck very close ahead with the left lane free",
+            "evasive_steering_left",
+        ),
+        hc("v2", "vehicle_ahead", "the car in front brakes suddenly in dense traffic", "emergency_braking"),
+        hc("w1", "pedestrian", "a child runs across the road from the right", "evasive_steering_right"),
+    ]
+    rows = baseline_rows(base, holdout, EMBEDDER, k=1)
+    assert {cid: r["manoeuvre"] for cid, r in rows["baseline/majority"].items()} == {
+        "v1": "emergency_braking",
+        "v2": "emergency_braking",
+        "w1": "emergency_braking",
+    }
+    # k=1: the answer of the nearest case (the same caption) of the same risk type
+    assert rows["baseline/vote/k1"]["v1"]["manoeuvre"] == "evasive_steering_left"
+    assert rows["baseline/vote/k1"]["v2"]["manoeuvre"] == "emergency_braking"
+    # The grid scores them beside the model's configurations, with no model call.
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    ev = evaluate_cbr_grid(
+        base,
+        holdout,
+        results,
+        ChatClient(ScriptedBackend([answer()] * 3)),
+        EMBEDDER,
+        [RecommendSettings(k=0)],
+        with_text=False,
+    )
+    by_label = {b.label: b for b in ev.baselines}
+    assert by_label["baseline/majority"].accuracy == pytest.approx(1 / 3)
+    assert by_label["baseline/majority"].rollout_success == pytest.approx(1 / 3)
+    assert (
+        "baseline/vote/k5" in by_label and ev.to_json_dict()["baselines"][0]["label"] == "baseline/majority"
+    )

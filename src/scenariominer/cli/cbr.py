@@ -255,7 +255,9 @@ def render_eval(ev: CbrEvaluation) -> None:
     for rt in ev.risk_types:
         acc.add_column(rt.replace("_", " "), justify="right", min_width=4)
     acc.add_column("overall", justify="right")
-    for c in ev.configs:
+    for i, c in enumerate((*ev.configs, *ev.baselines)):
+        if i == len(ev.configs):
+            acc.add_section()  # the model-free baselines below the line
         acc.add_row(
             safe(c.label) + ("" if c.complete else " *"),
             *[_num(c.per_type.get(rt, math.nan)) for rt in ev.risk_types],
@@ -266,7 +268,9 @@ def render_eval(ev: CbrEvaluation) -> None:
     run.add_column("configuration", no_wrap=True)
     for head in ("answered", "invalid", "rollout success", "s / recommendation"):
         run.add_column(head, justify="right")
-    for c in ev.configs:
+    for i, c in enumerate((*ev.configs, *ev.baselines)):
+        if i == len(ev.configs):
+            run.add_section()
         run.add_row(
             safe(c.label) + ("" if c.complete else " *"),
             f"{c.n_answered}/{c.n_cases}",
@@ -295,7 +299,9 @@ def render_eval(ev: CbrEvaluation) -> None:
     unfinished = any(not c.complete for c in ev.configs)
     console().print(
         f"hold-out {ev.n_holdout} cases, case base {ev.n_case_base} cases; {ev.fresh_calls} fresh model "
-        f"calls, {ev.seconds:.0f} s."
+        f"calls, {ev.seconds:.0f} s. Below the line, no model: baseline/majority answers the case base's "
+        "most frequent manoeuvre of the risk type, baseline/vote the most frequent among the most similar "
+        "cases."
         + (" * = not every hold-out case answered yet (run again to continue)." if unfinished else ""),
         soft_wrap=True,
     )

@@ -11,13 +11,18 @@ continues where it stopped and a finished one is only re-scored. Scores per conf
   of the event context and the justification against the hold-out references (all x100);
 * rollout success: the share of answers whose manoeuvre avoids the conflict on the case's scene;
 * seconds per recommendation (fresh model calls only).
+
+Two model-free baselines are scored beside the grid, so a figure can be read against what needs no
+model at all: ``baseline/majority`` answers the case base's most frequent manoeuvre of the query's
+risk type, ``baseline/vote/k5`` the most frequent manoeuvre among the five most similar cases of that
+risk type (ties go to the better-ranked case).
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections import defaultdict
+from collections import Counter, defaultdict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -26,6 +31,7 @@ from scenariominer.cbr.build import HoldoutCase
 from scenariominer.cbr.cases import CaseBase
 from scenariominer.cbr.prompts import PROMPT_VERSION
 from scenariominer.cbr.recommend import Query, RecommendSettings, recommend
+from scenariominer.cbr.retrieve import retrieve
 from scenariominer.cbr.vocab import CbrError
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder
@@ -33,7 +39,14 @@ from scenariominer.llm.errors import LLMError
 from scenariominer.progress import NullProgress, Progress
 from scenariominer.store.corpus import CorpusTable
 
-__all__ = ["CbrEvaluation", "ConfigResult", "default_grid", "evaluate_cbr_grid", "text_metrics"]
+__all__ = [
+    "CbrEvaluation",
+    "ConfigResult",
+    "baseline_rows",
+    "default_grid",
+    "evaluate_cbr_grid",
+    "text_metrics",
+]
 
 EVAL_SCHEMA_VERSION = 1
 TEXT_FIELDS = ("event_context", "justification")
@@ -114,6 +127,7 @@ class CbrEvaluation:
     metric_notes: tuple[str, ...]
     fresh_calls: int
     seconds: float
+    baselines: tuple[ConfigResult, ...] = ()
 
     def to_json_dict(self) -> dict[str, Any]:
         """JSON-ready form (NaN as ``None``)."""
@@ -133,6 +147,7 @@ class CbrEvaluation:
             "seconds": self.seconds,
             "metric_notes": list(self.metric_notes),
             "configs": [clean(dict(c.__dict__, complete=c.complete)) for c in self.configs],
+            "baselines": [clean(dict(c.__dict__, complete=c.complete)) for c in self.baselines],
         }
 
 
@@ -208,6 +223,32 @@ def _close_meteor(meteor: Any) -> None:
         proc.stderr.close()
     # The finished process stays on the object: pycocoevalcap's own __del__ closes and kills it
     # again, which is harmless on a closed, reaped process (and raised when it found None).
+
+
+def _vote(ranked: Sequence[str]) -> str:
+    """Most frequent manoeuvre of ``ranked`` (best first); a tie goes to the better-ranked one."""
+    counts = Counter(ranked)
+    return max(ranked, key=lambda m: (counts[m], -ranked.index(m))) if ranked else ""
+
+
+def baseline_rows(
+    base: CaseBase, holdout: Sequence[HoldoutCase], embedder: Embedder, k: int = 5
+) -> dict[str, dict[str, dict[str, Any]]]:
+    """Answers of the model-free baselines: label -> case id -> row (as the grid stores them)."""
+    majority: dict[str, str] = {}
+    out: dict[str, dict[str, dict[str, Any]]] = {"baseline/majority": {}, f"baseline/vote/k{k}": {}}
+    for hc in holdout:
+        rt = hc.case.risk_type
+        if rt not in majority:
+            names = sorted(c.manoeuvre for c in base.cases(rt))
+            majority[rt] = _vote(names)
+        near = retrieve(base, hc.case.caption, rt, k, selection="similarity", embedder=embedder)
+        for label, choice in (
+            ("baseline/majority", majority[rt]),
+            (f"baseline/vote/k{k}", _vote([r.case.manoeuvre for r in near])),
+        ):
+            out[label][hc.case.case_id] = {"manoeuvre": choice, "answer": {}, "error": "", "cached": True}
+    return out
 
 
 def _key(model: str, base_version: int, label: str, case_id: str) -> str:
@@ -353,7 +394,19 @@ def evaluate_cbr_grid(
         result, notes = _score(settings.label, holdout, rows, with_text)
         configs.append(result)
         all_notes += [n for n in notes if n not in all_notes]
+    baselines = tuple(
+        _score(label, holdout, rows, with_text=False)[0]
+        for label, rows in baseline_rows(base, holdout, embedder).items()
+    )
     risk_types = tuple(sorted({hc.case.risk_type for hc in holdout}))
     return CbrEvaluation(
-        tuple(configs), risk_types, len(holdout), len(base), model, tuple(all_notes), fresh, clock() - start
+        tuple(configs),
+        risk_types,
+        len(holdout),
+        len(base),
+        model,
+        tuple(all_notes),
+        fresh,
+        clock() - start,
+        baselines,
     )
