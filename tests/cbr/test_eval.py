@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -13,7 +14,7 @@ from scenariominer.cbr.build import HoldoutCase
 from scenariominer.cbr.cases import Case
 from scenariominer.cbr.recommend import RecommendSettings
 from scenariominer.cbr.vocab import CbrError
-from scenariominer.eval.cbr import baseline_rows, default_grid, evaluate_cbr_grid
+from scenariominer.eval.cbr import baseline_rows, default_grid, evaluate_cbr_grid, text_metrics
 from scenariominer.llm.client import ChatClient
 from scenariominer.store import ScenarioStore
 from scenariominer.testing import ScriptedBackend
@@ -222,3 +223,35 @@ def test_model_free_baselines_answer_the_majority_and_the_neighbours_vote(tmp_pa
     assert (
         "baseline/vote/k5" in by_label and ev.to_json_dict()["baselines"][0]["label"] == "baseline/majority"
     )
+
+
+def _java_children() -> list[int]:
+    """Pids of this process's children running java (from /proc; Linux)."""
+    me = str(os.getpid())
+    kids = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            cmd = (stat.parent / "cmdline").read_bytes()
+        except OSError:
+            continue
+        if fields[1] == me and b"java" in cmd:
+            kids.append(int(stat.parent.name))
+    return kids
+
+
+@pytest.mark.skipif(shutil.which("java") is None, reason="METEOR's jar needs Java")
+def test_one_text_scorer_serves_many_calls_with_one_jar_and_stops_it() -> None:
+    pytest.importorskip("pycocoevalcap")
+    from scenariominer.eval.cbr import TextScorer
+
+    pairs = [
+        (["the car brakes hard", "a truck cuts in"], ["the car brakes", "a van cuts in from the left"]),
+        (["steer right to pass the cyclist"], ["brake and let the cyclist cross"]),
+    ]
+    with TextScorer() as scorer:
+        shared = [scorer.score(h, r) for h, r in pairs]
+        assert len(_java_children()) == 1  # started once, kept for the second call
+    assert _java_children() == []
+    assert shared == [text_metrics(h, r) for h, r in pairs]  # the same scores as one-off scoring
+    assert all("METEOR" in s for s, _ in shared)

@@ -45,6 +45,7 @@ __all__ = [
     "baseline_rows",
     "default_grid",
     "evaluate_cbr_grid",
+    "TextScorer",
     "text_metrics",
 ]
 
@@ -159,53 +160,101 @@ def _clean_text(s: str) -> str:
     return " ".join(s.replace("|", " ").split()).lower() or "-"
 
 
-def text_metrics(hyps: Sequence[str], refs: Sequence[str]) -> tuple[dict[str, float], list[str]]:
-    """BLEU-4, ROUGE-L (F), METEOR and CIDEr (x100) of ``hyps`` against one reference each.
+class TextScorer:
+    """BLEU-4, ROUGE-L (F), METEOR and CIDEr (x100) of hypotheses against one reference each.
 
-    Returns:
-        ``(scores, notes)``: a metric whose package or runtime is missing is left out and named in
-        ``notes`` with the reason.
+    METEOR runs pycocoevalcap's Java jar; it is started on the first call and kept for the next ones
+    (a grid scores 28 field x configuration pairs, and each jar start costs seconds), so call
+    :meth:`close` when done, or use the scorer as a context manager.
     """
-    notes: list[str] = []
-    scores: dict[str, float] = {}
-    if not hyps:
-        return scores, notes
-    try:
-        import sacrebleu
 
-        scores["BLEU4"] = float(sacrebleu.corpus_bleu(list(hyps), [list(refs)]).score)
-    except ImportError:
-        notes.append("BLEU4 unavailable: sacrebleu is not installed (pip install 'scenariominer[cbr]')")
-    try:
-        from rouge_score import rouge_scorer
+    def __init__(self) -> None:
+        self._meteor: Any = None
+        self._meteor_note = ""
 
-        scorer = rouge_scorer.RougeScorer(["rougeL"], use_stemmer=True)
-        scores["ROUGE_L"] = 100.0 * _mean(
-            [scorer.score(r, h)["rougeL"].fmeasure for h, r in zip(hyps, refs, strict=True)]
-        )
-    except ImportError:
-        notes.append("ROUGE_L unavailable: rouge-score is not installed (pip install 'scenariominer[cbr]')")
-    gts = {str(i): [_clean_text(r)] for i, r in enumerate(refs)}
-    res = {str(i): [_clean_text(h)] for i, h in enumerate(hyps)}
-    try:
-        from pycocoevalcap.cider.cider import Cider
+    def __enter__(self) -> TextScorer:
+        return self
 
-        scores["CIDEr"] = 100.0 * float(Cider().compute_score(gts, res)[0])
-    except ImportError:
-        notes.append("CIDEr unavailable: pycocoevalcap is not installed (pip install 'scenariominer[cbr]')")
-    try:
-        from pycocoevalcap.meteor.meteor import Meteor
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
-        meteor = Meteor()
+    def close(self) -> None:
+        """Stop METEOR's jar if it was started."""
+        if self._meteor is not None:
+            _close_meteor(self._meteor)
+            self._meteor = None
+
+    def score(self, hyps: Sequence[str], refs: Sequence[str]) -> tuple[dict[str, float], list[str]]:
+        """Scores of ``hyps`` against ``refs``.
+
+        Returns:
+            ``(scores, notes)``: a metric whose package or runtime is missing is left out and named in
+            ``notes`` with the reason.
+        """
+        notes: list[str] = []
+        scores: dict[str, float] = {}
+        if not hyps:
+            return scores, notes
         try:
-            scores["METEOR"] = 100.0 * float(meteor.compute_score(gts, res)[0])
-        finally:
-            _close_meteor(meteor)
-    except ImportError:
-        notes.append("METEOR unavailable: pycocoevalcap is not installed (pip install 'scenariominer[cbr]')")
-    except (OSError, ValueError, BrokenPipeError) as exc:
-        notes.append(f"METEOR unavailable: pycocoevalcap's METEOR needs Java to run its jar ({exc})")
-    return scores, notes
+            import sacrebleu
+
+            scores["BLEU4"] = float(sacrebleu.corpus_bleu(list(hyps), [list(refs)]).score)
+        except ImportError:
+            notes.append("BLEU4 unavailable: sacrebleu is not installed (pip install 'scenariominer[cbr]')")
+        try:
+            from rouge_score import rouge_scorer
+
+            scorer = rouge_scorer.RougeScorer(["rougeL"], use_stemmer=True)
+            scores["ROUGE_L"] = 100.0 * _mean(
+                [scorer.score(r, h)["rougeL"].fmeasure for h, r in zip(hyps, refs, strict=True)]
+            )
+        except ImportError:
+            notes.append(
+                "ROUGE_L unavailable: rouge-score is not installed (pip install 'scenariominer[cbr]')"
+            )
+        gts = {str(i): [_clean_text(r)] for i, r in enumerate(refs)}
+        res = {str(i): [_clean_text(h)] for i, h in enumerate(hyps)}
+        try:
+            from pycocoevalcap.cider.cider import Cider
+
+            scores["CIDEr"] = 100.0 * float(Cider().compute_score(gts, res)[0])
+        except ImportError:
+            notes.append(
+                "CIDEr unavailable: pycocoevalcap is not installed (pip install 'scenariominer[cbr]')"
+            )
+        meteor = self._meteor_scorer()
+        if meteor is None:
+            notes.append(self._meteor_note)
+        else:
+            try:
+                scores["METEOR"] = 100.0 * float(meteor.compute_score(gts, res)[0])
+            except (OSError, ValueError) as exc:  # the jar died mid-way: report it, do not retry
+                self.close()
+                self._meteor_note = f"METEOR unavailable: pycocoevalcap's METEOR jar failed ({exc})"
+                notes.append(self._meteor_note)
+        return scores, notes
+
+    def _meteor_scorer(self) -> Any:
+        if self._meteor is None and not self._meteor_note:
+            try:
+                from pycocoevalcap.meteor.meteor import Meteor
+
+                self._meteor = Meteor()
+            except ImportError:
+                self._meteor_note = (
+                    "METEOR unavailable: pycocoevalcap is not installed (pip install 'scenariominer[cbr]')"
+                )
+            except OSError as exc:
+                self._meteor_note = (
+                    f"METEOR unavailable: pycocoevalcap's METEOR needs Java to run its jar ({exc})"
+                )
+        return self._meteor
+
+
+def text_metrics(hyps: Sequence[str], refs: Sequence[str]) -> tuple[dict[str, float], list[str]]:
+    """One-off :meth:`TextScorer.score` (starts and stops METEOR's jar)."""
+    with TextScorer() as scorer:
+        return scorer.score(hyps, refs)
 
 
 def _close_meteor(meteor: Any) -> None:
@@ -281,7 +330,10 @@ def _answer_row(
 
 
 def _score(
-    label: str, holdout: Sequence[HoldoutCase], rows: dict[str, dict[str, Any]], with_text: bool
+    label: str,
+    holdout: Sequence[HoldoutCase],
+    rows: dict[str, dict[str, Any]],
+    text_scorer: TextScorer | None,
 ) -> tuple[ConfigResult, list[str]]:
     per_type: dict[str, list[bool]] = defaultdict(list)
     correct: list[bool] = []
@@ -310,9 +362,9 @@ def _score(
             latencies.append(lat)
     text: dict[str, dict[str, float]] = {}
     notes: list[str] = []
-    if with_text:
+    if text_scorer is not None:
         for f in TEXT_FIELDS:
-            text[f], n = text_metrics(hyps[f], refs[f])
+            text[f], n = text_scorer.score(hyps[f], refs[f])
             notes += n
     result = ConfigResult(
         label=label,
@@ -385,17 +437,22 @@ def evaluate_cbr_grid(
     prog.finish()
     configs = []
     all_notes: list[str] = []
-    for settings in grid:
-        prefix = _key(model, version, settings.label, "")
-        rows = {
-            r.key[len(prefix) :]: dict(r.data)
-            for r in results.rows([prefix + hc.case.case_id for hc in holdout])
-        }
-        result, notes = _score(settings.label, holdout, rows, with_text)
-        configs.append(result)
-        all_notes += [n for n in notes if n not in all_notes]
+    text_scorer = TextScorer() if with_text else None
+    try:
+        for settings in grid:
+            prefix = _key(model, version, settings.label, "")
+            rows = {
+                r.key[len(prefix) :]: dict(r.data)
+                for r in results.rows([prefix + hc.case.case_id for hc in holdout])
+            }
+            result, notes = _score(settings.label, holdout, rows, text_scorer)
+            configs.append(result)
+            all_notes += [n for n in notes if n not in all_notes]
+    finally:
+        if text_scorer is not None:
+            text_scorer.close()
     baselines = tuple(
-        _score(label, holdout, rows, with_text=False)[0]
+        _score(label, holdout, rows, None)[0]
         for label, rows in baseline_rows(base, holdout, embedder).items()
     )
     risk_types = tuple(sorted({hc.case.risk_type for hc in holdout}))
