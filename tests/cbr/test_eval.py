@@ -255,3 +255,40 @@ def test_one_text_scorer_serves_many_calls_with_one_jar_and_stops_it() -> None:
     assert _java_children() == []
     assert shared == [text_metrics(h, r) for h, r in pairs]  # the same scores as one-off scoring
     assert all("METEOR" in s for s, _ in shared)
+
+
+def test_grid_picture_is_a_png_with_one_bar_per_configuration(tmp_path: Path) -> None:
+    from PIL import Image
+
+    from scenariominer.eval.cbr import plot_evaluation
+
+    base = case_base(tmp_path)
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    grid = [RecommendSettings(k=0), RecommendSettings(k=1), RecommendSettings(k=1, selection="random")]
+    ev = evaluate_cbr_grid(
+        base,
+        _holdout(),
+        results,
+        ChatClient(ScriptedBackend([answer("emergency_braking")] * 9)),
+        EMBEDDER,
+        grid,
+        with_text=False,
+    )
+    small = plot_evaluation(ev, tmp_path / "pics" / "grid.png")
+    assert small == tmp_path / "pics" / "grid.png"
+    with Image.open(small) as img:
+        assert img.format == "PNG"
+        h3 = img.size[1]
+    # The figure grows with the number of configurations (one bar each).
+    more = evaluate_cbr_grid(
+        base,
+        _holdout(),
+        results,
+        ChatClient(ScriptedBackend([answer("emergency_braking")] * 30)),
+        EMBEDDER,
+        default_grid(ks=(0, 1, 3)),
+        with_text=False,
+    )
+    with Image.open(plot_evaluation(more, tmp_path / "grid10.png")) as img:
+        assert img.size[1] > h3
+    assert ev.to_json_dict()["picture"] is None

@@ -22,7 +22,13 @@ from scenariominer.cbr.recommend import recommend as _recommend
 from scenariominer.cbr.rollout import RECORDED, RolloutOutcome, rollout
 from scenariominer.cbr.vocab import CbrError, load_manoeuvres, load_risk_types
 from scenariominer.config import Config
-from scenariominer.eval.cbr import EVAL_SCHEMA_VERSION, CbrEvaluation, default_grid, evaluate_cbr_grid
+from scenariominer.eval.cbr import (
+    EVAL_SCHEMA_VERSION,
+    CbrEvaluation,
+    default_grid,
+    evaluate_cbr_grid,
+    plot_evaluation,
+)
 from scenariominer.llm.factory import make_chat_client, make_embedder
 from scenariominer.llm.usage import UsageCounter
 from scenariominer.progress import Progress
@@ -274,6 +280,7 @@ class CbrEvalRequest:
         configs: only these configuration labels (e.g. ``aware/similarity/k3``); ``None``: all.
         time_budget_s: stop asking the model after this long; what is stored is scored.
         text_metrics: compute BLEU/ROUGE/METEOR/CIDEr.
+        picture: write a PNG of the grid here (accuracy and rollout success per configuration).
     """
 
     per_type: int | None = None
@@ -281,6 +288,7 @@ class CbrEvalRequest:
     configs: tuple[str, ...] | None = None
     time_budget_s: float | None = None
     text_metrics: bool = True
+    picture: Path | None = None
 
 
 def evaluate_cbr(
@@ -317,7 +325,7 @@ def evaluate_cbr(
     results = store.corpus(f"{c.table}_eval", EVAL_SCHEMA_VERSION)
     client = make_chat_client(config, usage=usage)
     try:
-        return evaluate_cbr_grid(
+        ev = evaluate_cbr_grid(
             base,
             holdout,
             results,
@@ -330,3 +338,6 @@ def evaluate_cbr(
         )
     finally:
         client.close()
+    if request.picture is not None:
+        ev = dataclasses.replace(ev, picture=plot_evaluation(ev, request.picture))
+    return ev

@@ -322,6 +322,10 @@ def eval_cbr(
     text: Annotated[
         bool, typer.Option("--text-metrics/--no-text-metrics", help="BLEU/ROUGE/METEOR/CIDEr.")
     ] = True,
+    picture: Annotated[
+        Path | None,
+        typer.Option("--picture", help="Write a PNG of accuracy and rollout success per configuration."),
+    ] = None,
     store: StoreOpt = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
@@ -334,13 +338,15 @@ def eval_cbr(
     st, cfg = _store(store, config)
     wanted = tuple(x.strip() for x in configs.split(",") if x.strip()) if configs else None
     shots = tuple(int(x) for x in ks.split(",") if x.strip())
-    request = api.CbrEvalRequest(per_type, shots, wanted, time_budget, text)
+    request = api.CbrEvalRequest(per_type, shots, wanted, time_budget, text, picture)
     with progress_bar(not json_out) as bar:
         ev = api.evaluate_cbr(st, request, cfg, bar, UsageCounter())
     if json_out:
         console().print_json(json.dumps(ev.to_json_dict()))
     else:
         render_eval(ev)
+        if ev.picture is not None:
+            console().print(f"wrote {safe(str(ev.picture))}", soft_wrap=True, highlight=False)
 
 
 def register(root: typer.Typer) -> None:

@@ -25,7 +25,10 @@ import time
 from collections import Counter, defaultdict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from scenariominer.cbr.build import HoldoutCase
 from scenariominer.cbr.cases import CaseBase
@@ -45,6 +48,7 @@ __all__ = [
     "baseline_rows",
     "default_grid",
     "evaluate_cbr_grid",
+    "plot_evaluation",
     "TextScorer",
     "text_metrics",
 ]
@@ -129,6 +133,7 @@ class CbrEvaluation:
     fresh_calls: int
     seconds: float
     baselines: tuple[ConfigResult, ...] = ()
+    picture: Path | None = None
 
     def to_json_dict(self) -> dict[str, Any]:
         """JSON-ready form (NaN as ``None``)."""
@@ -149,6 +154,7 @@ class CbrEvaluation:
             "metric_notes": list(self.metric_notes),
             "configs": [clean(dict(c.__dict__, complete=c.complete)) for c in self.configs],
             "baselines": [clean(dict(c.__dict__, complete=c.complete)) for c in self.baselines],
+            "picture": None if self.picture is None else str(self.picture),
         }
 
 
@@ -467,3 +473,56 @@ def evaluate_cbr_grid(
         clock() - start,
         baselines,
     )
+
+
+#: The paper's best micro-accuracy (GPT-4o, risk-aware, similarity k=3), drawn for reference.
+PAPER_BEST_ACCURACY = 0.941
+
+
+def plot_evaluation(ev: CbrEvaluation, out: Path) -> Path:
+    """Write a PNG of the grid: accuracy and rollout success per configuration, baselines as lines.
+
+    Configurations run top to bottom in the grid's order; an unfinished one is marked ``*``. The
+    model-free baselines and the paper's best accuracy are vertical lines.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    configs = list(ev.configs)
+    fig, ax = plt.subplots(figsize=(8, 0.42 * len(configs) + 1.8))
+    try:
+        y = np.arange(len(configs))
+        acc = [0.0 if math.isnan(c.accuracy) else c.accuracy for c in configs]
+        roll = [math.nan if math.isnan(c.rollout_success) else c.rollout_success for c in configs]
+        ax.barh(y, acc, height=0.6, color="#4c72b0", label="manoeuvre accuracy")
+        ax.plot(roll, y, "o", color="#dd8452", label="rollout success (avoids the conflict)")
+        styles = ("--", ":")
+        for b, style in zip(ev.baselines, styles * len(ev.baselines), strict=False):
+            ax.axvline(
+                b.accuracy, color="#55a868", linestyle=style, label=f"{b.label} (no model) {b.accuracy:.2f}"
+            )
+        ax.axvline(
+            PAPER_BEST_ACCURACY,
+            color="#999999",
+            linestyle="-.",
+            label=f"paper (GPT-4o, its own cases) {PAPER_BEST_ACCURACY}",
+        )
+        ax.set_yticks(y, [c.label + ("" if c.complete else " *") for c in configs])
+        ax.invert_yaxis()
+        ax.set_xlim(0, 1)
+        ax.set_xlabel("share of hold-out cases")
+        answered = max((c.n_answered for c in configs), default=0)
+        share = f"{answered}" if answered == ev.n_holdout else f"{answered} of {ev.n_holdout}"
+        model = ev.model.split("@")[0]
+        ax.set_title(
+            f"CBR on {share} hold-out cases, {ev.n_case_base} cases in the base ({model})", fontsize=10
+        )
+        ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.06), fontsize=8, ncol=2, frameon=False)
+        fig.tight_layout()
+        out.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(out, dpi=110)
+    finally:
+        plt.close(fig)
+    return out

@@ -489,7 +489,7 @@ def _add_job_routes(router: APIRouter, jobs: JobManager, settings: ServerSetting
 
     @router.post("/jobs/eval/cbr", tags=["jobs"], status_code=202)
     def eval_cbr(body: m.EvalCbrJob) -> m.JobModel:
-        """Run and score the case-based reasoning grid (use case ``eval cbr``)."""
+        """Run and score the CBR grid (use case ``eval cbr``); its picture at /api/jobs/{id}/picture."""
         return submit("eval_cbr", body)
 
     @router.post("/jobs/simulate/highway", tags=["jobs"], status_code=202)
@@ -519,7 +519,10 @@ def _add_job_routes(router: APIRouter, jobs: JobManager, settings: ServerSetting
 
     @router.get("/jobs/{job_id}/picture", tags=["jobs"], response_class=FileResponse)
     def job_picture(job_id: Annotated[str, _id_path()]) -> FileResponse:
-        """The picture a finished job drew (the rollout check of ``recommend``)."""
+        """The picture a finished job drew.
+
+        ``recommend``: the rollout check; ``ask``: the top samples; ``eval cbr``: the grid.
+        """
         from scenariominer.server.worker import picture_path
 
         job = jobs.get(job_id)

@@ -300,11 +300,13 @@ def _recommend(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgre
 def _eval_cbr(p: Mapping[str, Any], store: Any, cfg: Any, progress: QueueProgress) -> Any:
     from scenariominer import api
 
+    out = picture_path(store.root, progress.job_id)
     request = api.CbrEvalRequest(
         per_type=p.get("per_type"),
         ks=tuple(p.get("ks", (0, 1, 3, 5))),
         time_budget_s=p.get("time_budget_s"),
         text_metrics=p.get("text_metrics", True),
+        picture=out,
     )
     return api.evaluate_cbr(store, request, cfg, progress=progress)
 
