@@ -193,4 +193,7 @@ def test_jobs_page_runs_analyze_and_reports_refusals(driver: Any, live: Any) -> 
         return any(c[1] == "analyze" and c[2] == "succeeded" for c in cells)
 
     _wait(analyze_succeeded, what="the finished job in the jobs table")
+    rows = [[c.text for c in r.find_elements("css selector", "td")] for r in _rows(d, "jobs-table")]
+    progress = next(c[3] for c in rows if c[1] == "analyze")
+    assert progress and "0/0" not in progress  # an analyze with nothing left says so
     d.save_screenshot(str(SCREENSHOTS / "jobs.png"))

@@ -455,14 +455,19 @@ function showMineResult(result) {
   $("mine-result").hidden = false;
 }
 
+function progressText(p) {
+  if (!p) return "";
+  if (p.total === 0) return p.step + ": nothing to do";
+  return p.step + " " + p.done + (p.total !== null ? "/" + p.total : "");
+}
+
 async function loadJobs() {
   const jobs = await apiGet("/api/jobs?count=100");
   const body = $("jobs-table").tBodies[0];
   body.replaceChildren();
   for (const j of jobs) {
     const tr = el("tr");
-    const p = j.progress;
-    const progress = p ? p.step + " " + p.done + (p.total !== null ? "/" + p.total : "") : "";
+    const progress = progressText(j.progress);
     const cell = el("td");
     if (j.state === "queued" || j.state === "running") {
       const b = el("button", "Cancel");
@@ -492,7 +497,7 @@ async function submitJob(path, body) {
   try {
     await followJob(job.id, (type, data) => {
       if (type === "progress") {
-        $("job-status").textContent = label + ": " + data.step + " " + data.done + (data.total !== null ? "/" + data.total : "");
+        $("job-status").textContent = label + ": " + progressText(data);
       }
       if (type === "state") $("job-status").textContent = label + ": " + data.state;
       if (type === "end" && data.error) showError(data.error);
