@@ -14,8 +14,9 @@ from scenariominer.events.segments import (
     run_lengths,
     segment_pair,
 )
-from scenariominer.tags import LogTags
+from scenariominer.tags import LogTags, tag_log
 from scenariominer.tags.vocab import ABSENT, TAG_FAMILIES, names_to_codes
+from scenariominer.testing import LogBuilder, times
 
 DT_NS = 100_000_000
 
@@ -182,3 +183,24 @@ def test_brief_risk_is_never_merged_away() -> None:
     assert [segs.value(collision, s) for s in range(segs.n_segments)] == ["LOW", "HIGH", "LOW"]
     assert {segs.value(position, s) for s in range(segs.n_segments)} == {"FRONT"}
     assert segs.value_duration_s[collision, 1] == pytest.approx(0.1)
+
+
+def test_pair_cut_with_the_log_carries_lateral_offset_and_the_turn_after() -> None:
+    t = times(12.0)
+    turn = np.where((t >= 6.0) & (t < 8.0), np.pi / 4, 0.0)  # 90 degrees left between 6 s and 8 s
+    log = (
+        LogBuilder(t)
+        .ego(speed_mps=5.0, yaw_rate_radps=turn)
+        .add("g", "REGULAR_VEHICLE", speed_mps=5.0, x0_m=15.0, y0_m=3.5)
+        .build()
+    )
+    tags = tag_log(log)
+    start, end = int(log.timestamps_ns[10]), int(log.timestamps_ns[30])
+    pair = pair_tags(tags, "g", start, end, log=log, turn_lookahead_s=6.0)
+    assert pair.guest_left_m is not None and pair.guest_left_m.shape == (pair.n_timestamps,)
+    assert pair.guest_left_m == pytest.approx(3.5)  # both drive straight, one lane apart
+    assert pair.ego_turn_after_rad == pytest.approx(np.pi / 2, abs=0.05)  # window ends at 3 s, turn 6-8 s
+    short = pair_tags(tags, "g", start, end, log=log, turn_lookahead_s=1.0)
+    assert short.ego_turn_after_rad == pytest.approx(0.0, abs=1e-9)  # the turn starts later
+    no_log = pair_tags(tags, "g", start, end)
+    assert no_log.guest_left_m is None and no_log.ego_turn_after_rad is None

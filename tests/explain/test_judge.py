@@ -57,7 +57,11 @@ def test_allowed_categories_per_judge() -> None:
 
 
 def test_a_crossing_pedestrian_is_never_an_obj_crossing_candidate() -> None:
-    rows = {"pair_heading": [HeadingTag.LEFT.value] * 30, "pair_position": [PositionTag.FRONT.value] * 30}
+    rows = {
+        "pair_heading": [HeadingTag.LEFT.value] * 30,
+        "pair_position": [PositionTag.FRONT.value] * 30,
+        "pair_traj_overlap": ["LOW"] * 30,
+    }
     assert "obj_crossing" not in rule_candidates(make_pair("PEDESTRIAN", **rows))
     assert rule_candidates(make_pair("REGULAR_VEHICLE", **rows)) == ("obj_crossing",)
 

@@ -52,6 +52,10 @@ class ExplainConfig:
             the LLM among the rules' candidates otherwise; the LLM always writes the description
             and a fact-based explanation), ``"llm"`` (the LLM among every category) or
             ``"rules"`` (no model; see :mod:`scenariominer.explain.judge`).
+        turn_lookahead_s: the rules' "the ego turns" (``left_oppo``, ``right_ped``) also holds when
+            the ego turns within this many seconds after the analysis window: an ego waiting to
+            turn left brakes while still facing forward, and turns only once the oncoming car has
+            passed; 0 looks at the window only.
     """
 
     context_before_s: float = 2.0
@@ -66,6 +70,7 @@ class ExplainConfig:
     show_future_s: float = 3.0
     search_k: int = 10
     judge: str = "hybrid"
+    turn_lookahead_s: float = 8.0
 
     def __post_init__(self) -> None:
         from scenariominer.config import ConfigError  # late: scenariominer.config imports this module
@@ -79,6 +84,7 @@ class ExplainConfig:
             "headway_min_speed_mps",
             "show_past_s",
             "show_future_s",
+            "turn_lookahead_s",
         ):
             value = getattr(self, name)
             if not value >= 0:

@@ -19,6 +19,9 @@ from enum import StrEnum
 import numpy as np
 from numpy.typing import NDArray
 
+from scenariominer.data.log import Log
+from scenariominer.geometry.angles import wrap_angle
+from scenariominer.geometry.frames import to_local
 from scenariominer.tags.actor import frames_for, suppress_short_runs
 from scenariominer.tags.engine import LogTags
 from scenariominer.tags.vocab import ABSENT, TAG_FAMILIES, member_of
@@ -106,6 +109,12 @@ class PairTags:
         frame_period_s: the log's median frame period, seconds (the duration of the last frame).
         event_start_ns: first timestamp of the event inside the window (KeyIdent's window start).
         event_end_ns: last timestamp of the event (inclusive).
+        guest_left_m: ``(W,)`` lateral offset of the guest's box centre in the ego's frame,
+            metres, positive to the ego's left, NaN where either is unobserved; ``None`` when
+            the pair was cut without the log's positions (rules then use the tags alone).
+        ego_turn_after_rad: the ego's accumulated heading change from the window's last timestamp
+            to ``turn_lookahead_s`` later, radians, positive counter-clockwise (left); ``None``
+            without the log's positions.
     """
 
     log_id: str
@@ -116,11 +125,15 @@ class PairTags:
     frame_period_s: float
     event_start_ns: int
     event_end_ns: int
+    guest_left_m: FloatArray | None = None
+    ego_turn_after_rad: float | None = None
 
     def __post_init__(self) -> None:
         w = self.timestamps_ns.shape[0]
         if self.codes.shape != (len(PAIR_FEATURES), w):
             raise ValueError(f"codes must have shape ({len(PAIR_FEATURES)}, {w}), got {self.codes.shape}")
+        if self.guest_left_m is not None and self.guest_left_m.shape != (w,):
+            raise ValueError(f"guest_left_m must have shape ({w},), got {self.guest_left_m.shape}")
         if w == 0:
             raise ValueError(f"log {self.log_id}, guest {self.guest_id}: the window holds no timestamp")
 
@@ -158,6 +171,8 @@ def pair_tags(
     *,
     context_before_s: float = 0.0,
     context_after_s: float = 0.0,
+    log: Log | None = None,
+    turn_lookahead_s: float = 0.0,
 ) -> PairTags:
     """Cut the tags of one ego–guest pair to an event's window plus context.
 
@@ -168,6 +183,10 @@ def pair_tags(
         end_ns: last timestamp of the event (inclusive).
         context_before_s: seconds of context before ``start_ns``.
         context_after_s: seconds of context after ``end_ns``.
+        log: the tagged log (same tracks and timestamps as ``tags``); when given, the pair also
+            carries the guest's lateral offset in the ego's frame (``guest_left_m``) and the ego's
+            heading change after the window (``ego_turn_after_rad``).
+        turn_lookahead_s: seconds after the window over which ``ego_turn_after_rad`` is measured.
 
     Raises:
         KeyError: the guest is not in the log.
@@ -196,7 +215,32 @@ def pair_tags(
         frame_period_s=period,
         event_start_ns=int(start_ns),
         event_end_ns=int(end_ns),
+        guest_left_m=None if log is None else _guest_left_m(log, log.track_index(guest_id), lo, hi),
+        ego_turn_after_rad=None if log is None else _ego_turn_after_rad(log, hi - 1, turn_lookahead_s),
     )
+
+
+def _ego_turn_after_rad(log: Log, last: int, lookahead_s: float) -> float:
+    """Accumulated ego heading change from column ``last`` to ``lookahead_s`` later (radians)."""
+    e = log.ego_index
+    ts = log.timestamps_ns
+    stop = int(np.searchsorted(ts, ts[last] + round(lookahead_s * 1e9), side="right"))
+    yaw = log.yaw_rad[e, last:stop][log.valid[e, last:stop]]
+    if yaw.size < 2:
+        return 0.0
+    return float(np.sum(wrap_angle(np.diff(yaw))))
+
+
+def _guest_left_m(log: Log, row: int, lo: int, hi: int) -> FloatArray:
+    """``(hi - lo,)`` lateral offset of track ``row`` in the ego's frame (NaN where unobserved)."""
+    e = log.ego_index
+    _, left = to_local(
+        log.x_m[row, lo:hi] - log.x_m[e, lo:hi],
+        log.y_m[row, lo:hi] - log.y_m[e, lo:hi],
+        log.yaw_rad[e, lo:hi],
+    )
+    seen = log.valid[row, lo:hi] & log.valid[e, lo:hi]
+    return np.where(seen, left, np.nan)
 
 
 @dataclass(frozen=True, eq=False)

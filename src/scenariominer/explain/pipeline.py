@@ -350,6 +350,8 @@ def _analyze_event(
         event.end_ns,
         context_before_s=cfg.context_before_s,
         context_after_s=cfg.context_after_s,
+        log=log,
+        turn_lookahead_s=cfg.turn_lookahead_s,
     )
     if pair.guest_frames < 3:
         notes.append(f"the guest is observed in only {pair.guest_frames} frame(s) of the window")
