@@ -14,7 +14,13 @@ from scenariominer.cbr.build import HoldoutCase
 from scenariominer.cbr.cases import Case
 from scenariominer.cbr.recommend import RecommendSettings
 from scenariominer.cbr.vocab import CbrError
-from scenariominer.eval.cbr import baseline_rows, default_grid, evaluate_cbr_grid, text_metrics
+from scenariominer.eval.cbr import (
+    baseline_rows,
+    default_grid,
+    evaluate_cbr_grid,
+    interleaved,
+    text_metrics,
+)
 from scenariominer.llm.client import ChatClient
 from scenariominer.store import ScenarioStore
 from scenariominer.testing import ScriptedBackend
@@ -73,7 +79,8 @@ def test_grid_scores_accuracy_per_type_and_rollout_success(tmp_path: Path) -> No
 def test_invalid_answer_counts_as_wrong_and_the_grid_goes_on(tmp_path: Path) -> None:
     base = case_base(tmp_path)
     results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
-    replies = ["garbage", "garbage", answer("evasive_steering_left"), answer("emergency_braking")]
+    # Order q3, q1, q2 (rounds over risk types): q3's answer is garbage twice, the others are right.
+    replies = ["garbage", "garbage", answer("emergency_braking"), answer("evasive_steering_left")]
     ev = evaluate_cbr_grid(
         base,
         _holdout(),
@@ -105,6 +112,28 @@ def test_time_budget_stops_and_leaves_the_rest_for_later(tmp_path: Path) -> None
     )
     c = ev.configs[0]
     assert 0 < c.n_answered < 3 and not c.complete
+
+
+def test_a_stopped_run_leaves_every_configuration_on_the_same_cases(tmp_path: Path) -> None:
+    """Cases go in rounds over risk types, all configurations per case before the next one."""
+    assert [hc.case.case_id for hc in interleaved(_holdout())] == ["q3", "q1", "q2"]
+    base = case_base(tmp_path)
+    results = ScenarioStore.open(tmp_path / "store").corpus("cbr_eval_test", 1)
+    grid = [RecommendSettings(k=0), RecommendSettings(k=0, risk_aware=False)]
+    ticks = iter([0.0] * 5 + [100.0] * 20)  # start, then four answers within the budget
+    ev = evaluate_cbr_grid(
+        base,
+        _holdout(),
+        results,
+        ChatClient(ScriptedBackend([answer("emergency_braking")] * 4)),
+        EMBEDDER,
+        grid,
+        time_budget_s=10.0,
+        with_text=False,
+        clock=lambda: next(ticks),
+    )
+    assert [c.n_answered for c in ev.configs] == [2, 2]  # q3 (pedestrian) and q1 (vehicle_ahead)
+    assert set(ev.configs[0].per_type) == {"pedestrian", "vehicle_ahead"}
 
 
 def test_holdout_case_in_the_case_base_is_refused(tmp_path: Path) -> None:
@@ -159,7 +188,7 @@ def test_rendered_grid_has_one_row_per_configuration_and_marks_unfinished_ones(
         base,
         _holdout(),
         results,
-        ChatClient(ScriptedBackend([answer("emergency_braking")] * 4)),
+        ChatClient(ScriptedBackend([answer("emergency_braking")] * 5)),
         EMBEDDER,
         grid,
         time_budget_s=10.0,

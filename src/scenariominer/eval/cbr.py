@@ -386,6 +386,17 @@ def _score(
     return result, notes
 
 
+def interleaved(holdout: Sequence[HoldoutCase]) -> list[HoldoutCase]:
+    """The hold-out cases in rounds over the risk types, each type's cases in their given order."""
+    seen: dict[str, int] = {}
+    order = []
+    for i, hc in enumerate(holdout):
+        rank = seen.get(hc.case.risk_type, 0)
+        seen[hc.case.risk_type] = rank + 1
+        order.append((rank, hc.case.risk_type, i))
+    return [holdout[i] for _, _, i in sorted(order)]
+
+
 def evaluate_cbr_grid(
     base: CaseBase,
     holdout: Sequence[HoldoutCase],
@@ -400,6 +411,10 @@ def evaluate_cbr_grid(
     clock: Callable[[], float] = time.monotonic,
 ) -> CbrEvaluation:
     """Answer every (configuration, hold-out case) not yet stored, then score what is stored.
+
+    Cases are answered in rounds over the risk types (the first case of each type, then the
+    second, ...), every configuration for one case before the next, so a run stopped by its time
+    budget leaves all configurations answered on the same cases, balanced over the risk types.
 
     Args:
         base: the case base (never holds a hold-out case).
@@ -428,8 +443,8 @@ def evaluate_cbr_grid(
     fresh = 0
     prog.start("cbr evaluation", len(grid) * len(holdout))
     stopped = False
-    for settings in grid:
-        for hc in holdout:
+    for hc in interleaved(holdout):
+        for settings in grid:
             key = _key(model, version, settings.label, hc.case.case_id)
             if not stopped and time_budget_s is not None and clock() - start > time_budget_s:
                 stopped = True
