@@ -122,3 +122,47 @@ def test_user_errors_exit_2_with_one_line(workspace: Path, tmp_path: Path) -> No
     assert res.exit_code == 2
     res = runner.invoke(app, _args(workspace, "eval", "braking", "--labels", str(tmp_path / "none.csv")))
     assert res.exit_code == 2 and "does not exist" in _flat(res.output)
+
+
+def test_eval_braking_sets_side_by_side(analysed: Path, tmp_path: Path) -> None:
+    labels = analysed / "synth" / "labels.csv"
+    # A second set: the same store scored against labels that name another guest for one log.
+    rows = labels.read_text().splitlines()
+    header, first = rows[0].split(","), rows[1].split(",")
+    first[header.index("guest_id")] = "someone-else"
+    other = tmp_path / "labels.csv"
+    other.write_text("\n".join([rows[0], ",".join(first), *rows[2:]]) + "\n")
+    spec = f"shifted={analysed / 'store'},{other}"
+    res = runner.invoke(
+        _app(),
+        _args(
+            analysed, "eval", "braking", "--labels", str(labels), "--no-retrieval", "--also", spec, "--json"
+        ),
+    )
+    assert res.exit_code == 0, res.output
+    sets = json.loads(res.output)["sets"]
+    assert list(sets) == ["synth", "shifted"]
+    assert sets["synth"]["keyident"]["recall"] == 1.0
+    assert sets["shifted"]["keyident"]["recall"] == 0.5  # one of the two labelled guests is not found
+    table = runner.invoke(
+        _app(), _args(analysed, "eval", "braking", "--labels", str(labels), "--no-retrieval", "--also", spec)
+    )
+    assert table.exit_code == 0, table.output
+    recall_row = next(ln for ln in table.output.splitlines() if "KeyIdent recall " in ln and "│" in ln)
+    assert "synth" in table.output and "shifted" in table.output and "1.00" in recall_row
+    bad = runner.invoke(_app(), _args(analysed, "eval", "braking", "--labels", str(labels), "--also", "oops"))
+    assert bad.exit_code == 2 and "NAME=STORE,LABELS" in _flat(bad.output)
+    same = runner.invoke(
+        _app(),
+        _args(
+            analysed,
+            "eval",
+            "braking",
+            "--labels",
+            str(labels),
+            "--no-retrieval",
+            "--also",
+            f"synth={spec[8:]}",
+        ),
+    )
+    assert same.exit_code == 2 and "unique" in _flat(same.output)

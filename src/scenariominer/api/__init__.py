@@ -16,6 +16,7 @@ search              :func:`search`                                   :mod:`.brak
 show                :func:`show`                                     :mod:`.braking`
 mine                :func:`mine`                                     :mod:`.mining`
 eval braking        :func:`evaluate_braking`                         :mod:`.evaluation`
+eval braking --also :func:`evaluate_braking_sets` (:class:`BrakingSet`)  :mod:`.evaluation`
 eval mining         :func:`evaluate_mining`                          :mod:`.evaluation`
 eval nl2prog        :func:`evaluate_nl2prog`                         :mod:`.evaluation`
 llm check           :func:`llm_check`                                :mod:`.models`
@@ -73,9 +74,11 @@ _EXPORTS: dict[str, str] = {
     "raw_logs_for": "mining",
     "store_report": "mining",
     "BrakingEvalRequest": "evaluation",
+    "BrakingSet": "evaluation",
     "MiningEvalRequest": "evaluation",
     "Nl2ProgEvalRequest": "evaluation",
     "evaluate_braking": "evaluation",
+    "evaluate_braking_sets": "evaluation",
     "evaluate_mining": "evaluation",
     "evaluate_nl2prog": "evaluation",
     "LLMCheckResult": "models",

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from scenariominer.config import Config
-from scenariominer.errors import ConfigError, EvaluationError
+from scenariominer.errors import ConfigError, EvaluationError, ExplainError
 from scenariominer.eval.braking import BrakingEvaluation, read_labels
 from scenariominer.eval.braking import evaluate_braking as _evaluate_braking
 from scenariominer.eval.mining import MiningEvaluation, evaluate_mining_files
@@ -23,9 +23,11 @@ from scenariominer.store import ScenarioStore
 
 __all__ = [
     "BrakingEvalRequest",
+    "BrakingSet",
     "MiningEvalRequest",
     "Nl2ProgEvalRequest",
     "evaluate_braking",
+    "evaluate_braking_sets",
     "evaluate_mining",
     "evaluate_nl2prog",
 ]
@@ -88,6 +90,52 @@ def evaluate_braking(
 
     by_method = keyident_by_method(store, rows, config, read_noise_levels(request.labels))
     return dataclasses.replace(ev, by_method=tuple(by_method))
+
+
+@dataclass(frozen=True)
+class BrakingSet:
+    """One labelled set of a side-by-side braking evaluation.
+
+    Attributes:
+        name: the set's name in the report (e.g. ``tune``, ``sumo``).
+        store: the store its logs were ingested into and analysed in.
+        labels: its labels CSV.
+    """
+
+    name: str
+    store: ScenarioStore
+    labels: Path
+
+
+def evaluate_braking_sets(
+    sets: list[BrakingSet],
+    request: BrakingEvalRequest,
+    config: Config,
+    progress: Progress | None = None,
+    usage: UsageCounter | None = None,
+) -> list[tuple[str, BrakingEvaluation]]:
+    """Evaluate several labelled sets with the same settings, for a side-by-side report.
+
+    Each set is scored as by :func:`evaluate_braking` with ``request`` (its ``labels`` replaced
+    by the set's), e.g. the tuning split beside a hold-out made by another generator.
+
+    Raises:
+        EvaluationError: two sets share a name, or a set's evaluation failed (the message names
+            the set and the cause).
+    """
+    names = [s.name for s in sets]
+    if len(set(names)) != len(names):
+        raise EvaluationError(f"set names must be unique, got {names}")
+    out = []
+    for s in sets:
+        try:
+            ev = evaluate_braking(
+                s.store, dataclasses.replace(request, labels=s.labels), config, progress, usage
+            )
+        except (EvaluationError, ExplainError) as exc:
+            raise EvaluationError(f"set {s.name!r}: {exc}") from exc
+        out.append((s.name, ev))
+    return out
 
 
 def _rejudge(

@@ -11,8 +11,13 @@ import typer
 from scenariominer.cli._common import ConfigOpt, JsonOpt, StoreOpt, console, load_cfg
 from scenariominer.cli.progress import progress_bar
 from scenariominer.cli.text import safe
+from scenariominer.errors import EvaluationError
 
 if TYPE_CHECKING:
+    from collections.abc import Iterable
+
+    from scenariominer.api.evaluation import BrakingSet
+    from scenariominer.config import Config
     from scenariominer.eval.braking import BrakingEvaluation
     from scenariominer.eval.mining import MiningEvaluation
     from scenariominer.eval.nl2prog import Nl2ProgEvaluation
@@ -86,6 +91,59 @@ def render_braking(ev: BrakingEvaluation) -> None:
                 _num(row.recall_at_k),
             )
         out.print(t6)
+
+
+def render_braking_sets(results: list[tuple[str, BrakingEvaluation]], method: str) -> None:
+    """One table with a column per set: KeyIdent, Table V F1 per judge and category, noise levels.
+
+    Args:
+        results: ``(set name, evaluation)`` in column order.
+        method: the configured key-object method, whose recall per noise level is shown.
+    """
+    from rich.table import Table
+
+    evs = [ev for _, ev in results]
+    t = Table(title="Braking evaluation, sets side by side", title_justify="left")
+    t.add_column("measure", no_wrap=True)
+    for set_name, _ in results:
+        t.add_column(safe(set_name), justify="right", no_wrap=True)
+    t.add_row("labelled logs evaluated", *(str(ev.n_logs) for ev in evs))
+    t.add_row("events", *(str(ev.n_events) for ev in evs))
+    t.add_row("KeyIdent recall", *(_num(ev.keyident_overall.recall) for ev in evs))
+    t.add_row("KeyIdent precision", *(_num(ev.keyident_overall.precision) for ev in evs), end_section=True)
+    for cat in _union([r.category for r in ev.keyident if r.category != "overall"] for ev in evs):
+        t.add_row(f"KeyIdent recall {safe(cat)}", *(_keyident_recall(ev, cat) for ev in evs))
+    t.rows[-1].end_section = True
+    judges = _union(list(ev.judges) for ev in evs)
+    for cat in _union([c.category for c in ev.classification] for ev in evs):
+        for judge in judges:
+            t.add_row(f"F1 {safe(judge)} {safe(cat)}", *(_f1(ev, cat, judge) for ev in evs))
+    t.rows[-1].end_section = True
+    levels = _union([m.noise_level for m in ev.by_method if m.method == method] for ev in evs)
+    for level in (lv for lv in levels if lv != "all"):  # "all" is the KeyIdent recall above
+        t.add_row(
+            f"KeyIdent recall ({safe(method)}), noise {safe(level)}",
+            *(_noise_recall(ev, method, level) for ev in evs),
+        )
+    console().print(t)
+
+
+def _union(lists: Iterable[list[str]]) -> list[str]:
+    return list(dict.fromkeys(k for ks in lists for k in ks))
+
+
+def _keyident_recall(ev: BrakingEvaluation, category: str) -> str:
+    return next((_num(r.recall) for r in ev.keyident if r.category == category), "-")
+
+
+def _f1(ev: BrakingEvaluation, category: str, judge: str) -> str:
+    hit = [c.scores[judge] for c in ev.classification if c.category == category and judge in c.scores]
+    return _num(hit[0].f1) if hit else "-"
+
+
+def _noise_recall(ev: BrakingEvaluation, method: str, level: str) -> str:
+    hit = [m for m in ev.by_method if m.method == method and m.noise_level == level]
+    return _num(hit[0].overall.recall) if hit else "-"
 
 
 def _render_by_method(ev: BrakingEvaluation) -> None:
@@ -173,9 +231,24 @@ def braking(
         bool,
         typer.Option(help="Also give KeyIdent recall per key-object method (tags, counterfactual, combined)"),
     ] = True,
+    also: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--also",
+            help="Another labelled set to evaluate side by side, as NAME=STORE,LABELS (repeatable); "
+            "prints one table with a column per set.",
+        ),
+    ] = None,
+    name: Annotated[
+        str, typer.Option("--name", help="Name of the --store/--labels set in the side-by-side table.")
+    ] = "",
     json_out: JsonOpt = False,
 ) -> None:
-    """Evaluate braking events against labels: KeyIdent, rules / LLM / hybrid per category, retrieval."""
+    """Evaluate braking events against labels: KeyIdent, rules / LLM / hybrid per category, retrieval.
+
+    With `--also NAME=STORE,LABELS` (repeatable) every set is evaluated with the same settings and
+    one table shows them side by side, e.g. the tuning split beside a SUMO-made hold-out.
+    """
     import json
 
     from scenariominer import api
@@ -185,6 +258,16 @@ def braking(
     wanted = tuple(j.strip() for j in judges.split(",") if j.strip())
     request = api.BrakingEvalRequest(labels, categories, retrieval, complete_only, wanted, methods)
     usage = UsageCounter()
+    if also:
+        sets = [api.BrakingSet(name or labels.parent.name, api.open_existing_store(store, cfg), labels)]
+        sets += [_braking_set(spec, cfg) for spec in also]
+        with progress_bar(not json_out) as bar:
+            results = api.evaluate_braking_sets(sets, request, cfg, bar, usage)
+        if json_out:
+            console().print_json(json.dumps({"sets": {n: ev.to_json_dict() for n, ev in results}}))
+        else:
+            render_braking_sets(results, cfg.tags.keyident.method)
+        return
     with progress_bar(not json_out) as bar:
         ev = api.evaluate_braking(api.open_existing_store(store, cfg), request, cfg, bar, usage)
     if json_out:
@@ -193,6 +276,20 @@ def braking(
         render_braking(ev)
         if wanted:
             print_usage(usage.report(), console())
+
+
+def _braking_set(spec: str, cfg: Config) -> BrakingSet:
+    """``NAME=STORE,LABELS`` as a set (the store must exist)."""
+    from scenariominer import api
+
+    set_name, eq, rest = spec.partition("=")
+    store_path, comma, labels_path = rest.rpartition(",")
+    if not (eq and comma and set_name.strip() and store_path and labels_path):
+        raise EvaluationError(f"--also takes NAME=STORE,LABELS, got {spec!r}")
+    found: BrakingSet = api.BrakingSet(
+        set_name.strip(), api.open_existing_store(store_path, cfg), Path(labels_path)
+    )
+    return found
 
 
 @app.command("mining")
