@@ -57,5 +57,5 @@ NOT_SERVED: dict[str, str] = {
     "serve_settings": "the model server's settings",
     "store_vacuum": "deletes files: left to an operator at the command line",
     "open_case_base": "a helper of the case base",
-    "evaluate_braking_sets": "compares several stores; the server serves one (its eval braking job scores it)",
+    "evaluate_braking_sets": "compares several stores; the server has one (its eval braking job scores it)",
 }
