@@ -72,7 +72,7 @@ BASELINE_VERSION = "baseline/2"
 #: Lateral distance, metres, a cut-in guest must close towards the ego's axis within the window
 #: (a third of a 3 m lane; a lane change closes about one lane width). Chosen on the SUMO
 #: development set (``simulate urban --seed 101``), where cut-ins close 1.9-3.6 m and lead cars
-#: whose heading tags wobble close at most 0.15 m; the seed-17 SUMO set stayed unseen.
+#: whose heading tags wobble close at most 0.15 m; the seed-17 SUMO set played no part in it.
 CUT_IN_MIN_APPROACH_M = 1.0
 
 #: Heading change, radians, after the analysis window that counts as the ego turning (30 degrees):
