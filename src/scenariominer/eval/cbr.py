@@ -510,7 +510,7 @@ def plot_evaluation(ev: CbrEvaluation, out: Path) -> Path:
     try:
         y = np.arange(len(configs))
         acc = [0.0 if math.isnan(c.accuracy) else c.accuracy for c in configs]
-        roll = [math.nan if math.isnan(c.rollout_success) else c.rollout_success for c in configs]
+        roll = [c.rollout_success for c in configs]  # NaN (no answer) draws no dot
         ax.barh(y, acc, height=0.6, color="#4c72b0", label="manoeuvre accuracy")
         ax.plot(roll, y, "o", color="#dd8452", label="rollout success (avoids the conflict)")
         styles = ("--", ":")

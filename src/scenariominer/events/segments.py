@@ -215,7 +215,7 @@ def pair_tags(
         frame_period_s=period,
         event_start_ns=int(start_ns),
         event_end_ns=int(end_ns),
-        guest_left_m=None if log is None else _guest_left_m(log, log.track_index(guest_id), lo, hi),
+        guest_left_m=None if log is None else _guest_left_m(log, row, lo, hi),
         ego_turn_after_rad=None if log is None else _ego_turn_after_rad(log, hi - 1, turn_lookahead_s),
     )
 
