@@ -51,10 +51,12 @@ def trusted(program: str, context, description: str) -> ProgramResult:  # type: 
     return run_trusted_program(program, context, description=description)
 
 
-def _synth(replies: list[str], plan: bool = True) -> tuple[ProgramSynthesizer, ScriptedBackend]:
+def _synth(
+    replies: list[str], plan: bool = True, plan_program: bool = False
+) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
     selector = ExampleSelector(load_examples(), HashingEmbedder(128))
-    config = GenerationConfig(max_attempts=2, plan=plan)
+    config = GenerationConfig(max_attempts=2, plan=plan, plan_program=plan_program)
     return ProgramSynthesizer(ChatClient(backend), selector, config), backend
 
 

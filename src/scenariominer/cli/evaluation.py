@@ -427,6 +427,14 @@ def nl2prog(
             "(default: mining.generation.plan).",
         ),
     ] = None,
+    plan_program: Annotated[
+        bool | None,
+        typer.Option(
+            "--plan-program/--no-plan-program",
+            help="With --plan, first try the program built from the plan by fixed rules "
+            "(default: mining.generation.plan_program).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
@@ -445,6 +453,8 @@ def nl2prog(
         gen = dataclasses.replace(gen, grammar=grammar)
     if plan is not None:
         gen = dataclasses.replace(gen, plan=plan)
+    if plan_program is not None:
+        gen = dataclasses.replace(gen, plan_program=plan_program)
     cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()

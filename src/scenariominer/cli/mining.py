@@ -46,6 +46,12 @@ def render_query(report: QueryReport) -> None:
                 if attempt.error is None
                 else f"[red]{safe(attempt.error.feedback())}[/red]"
             )
+            if attempt.index == 0:
+                out.print(
+                    f"program built from the plan: {attempt.execution_s:.2f} s checks: {verdict}",
+                    soft_wrap=True,
+                )
+                continue
             out.print(
                 f"attempt {attempt.index}: {attempt.generation_s:.1f} s generation, "
                 f"{attempt.execution_s:.2f} s checks: {verdict}",

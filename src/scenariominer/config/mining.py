@@ -109,6 +109,9 @@ class GenerationConfig:
         plan: before writing, extract a structured plan of the description (subject and related
             categories, relations, conditions, stated numbers; :mod:`scenariominer.mine.plan`)
             with one schema-constrained call, show it in the program request and store it.
+        plan_program: with ``plan`` on, first try the program built from the plan by fixed rules
+            (:mod:`scenariominer.mine.plan_program`); the model writes one only when the rules
+            cannot express the plan or their program fails on the validation logs.
     """
 
     max_attempts: int = 5
@@ -124,6 +127,7 @@ class GenerationConfig:
     consensus_min_agreement: float = 0.5
     grammar: bool = False
     plan: bool = False
+    plan_program: bool = True
 
     def __post_init__(self) -> None:
         try:

@@ -42,6 +42,7 @@ from scenariominer.llm.base import Message
 from scenariominer.llm.cache import resolve_cache_dir
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.grammar import program_grammar
+from scenariominer.mine.plan_program import PLAN_PROGRAM_VERSION, PlanCompileError, compile_plan
 from scenariominer.mine.prompts import PROMPT_VERSION, repair_messages
 from scenariominer.mine.sandbox import ErrorKind, ProgramError, ProgramResult, check_program, run_program
 from scenariominer.mine.synthesis import ProgramSynthesizer, normalize_description
@@ -79,7 +80,7 @@ class Attempt:
     """One try of the loop.
 
     Attributes:
-        index: 1-based attempt number.
+        index: 1-based attempt number; 0 for the program built from the plan (no model answer).
         program: the program extracted from the model's answer.
         reply: the model's raw answer.
         error: why the program was rejected, or ``None`` for the accepted one.
@@ -153,8 +154,8 @@ class GenerationReport:
 
     @property
     def attempts_used(self) -> int:
-        """Number of model answers the loop needed (K under manual review)."""
-        return len(self.attempts)
+        """Number of model answers the loop needed (K under manual review; the plan's program is none)."""
+        return sum(1 for a in self.attempts if a.index > 0)
 
     @property
     def generation_s(self) -> float:
@@ -205,7 +206,12 @@ class GenerationReport:
 
 
 def program_cache_key(
-    description: str, model: str, first_messages: Sequence[Message], config: GenerationConfig
+    description: str,
+    model: str,
+    first_messages: Sequence[Message],
+    config: GenerationConfig,
+    *,
+    plan_program: bool = False,
 ) -> str:
     """SHA-256 (hex) identifying a generation: description, model, prompt version, prompt, K.
 
@@ -224,6 +230,8 @@ def program_cache_key(
     }
     if config.grammar:  # only when on, so caches of grammar-free runs keep their keys
         payload["grammar"] = hashlib.sha256(program_grammar().encode("utf-8")).hexdigest()
+    if plan_program:
+        payload["plan_program"] = PLAN_PROGRAM_VERSION
     blob = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
     return hashlib.sha256(blob.encode("utf-8")).hexdigest()
 
@@ -339,6 +347,44 @@ class _LoopState:
     accepted: str | None = None
 
 
+def _try_plan_program(
+    plan: dict[str, Any],
+    description: str,
+    validation: Sequence[LogContext],
+    state: _LoopState,
+    *,
+    config: MiningConfig | None,
+    runner: ProgramRunner | None,
+) -> None:
+    """Attempt 0: the program built from the plan by rules, checked like a model's answer.
+
+    A plan the rules cannot express is recorded as a rejected attempt naming the part at fault;
+    the model then writes the program (its attempts are numbered from 1 as always).
+    """
+    t0 = time.perf_counter()
+    try:
+        compiled = compile_plan(plan)
+    except PlanCompileError as exc:
+        error: ProgramError | None = ProgramError(ErrorKind.PLAN, f"the plan gives no program: {exc}")
+        program, reply = "", ""
+    else:
+        program = compiled.program
+        reply = "(built from the plan)" + "".join(f"\n# {note}" for note in compiled.notes)
+        error = validate_program(program, validation, description, config=config, runner=runner)
+    state.attempts.append(
+        Attempt(
+            index=0,
+            program=program,
+            reply=reply,
+            error=error,
+            generation_s=0.0,
+            execution_s=time.perf_counter() - t0,
+        )
+    )
+    if error is None:
+        state.accepted = program
+
+
 def generate_program(
     description: str,
     synthesizer: ProgramSynthesizer,
@@ -374,16 +420,22 @@ def generate_program(
     cfg = config or validation[0].config
     gen_cfg = cfg.generation
     first = synthesizer.first_messages(description)
-    key = program_cache_key(description, synthesizer.model, first, gen_cfg)
+    plan = synthesizer.plan_for(description)
+    from_plan = plan is not None and synthesizer.config.plan_program
+    key = program_cache_key(description, synthesizer.model, first, gen_cfg, plan_program=from_plan)
     if cache is not None and not force:
         hit = cache.get(key)
         if hit is not None:
             return hit
     state = _LoopState()
+    if plan is not None and from_plan:
+        _try_plan_program(plan, description, validation, state, config=config, runner=runner)
     messages = first
     failed: set[str] = set()
     repeated = False
     for index in range(1, gen_cfg.max_attempts + 1):
+        if state.accepted is not None:
+            break
         # a greedy model shown the same program and error answers the same: sample instead
         if repeated and gen_cfg.retry_temperature > 0:
             generation = synthesizer.generate(messages, temperature=gen_cfg.retry_temperature, seed=index)
@@ -424,7 +476,7 @@ def generate_program(
         model=synthesizer.model,
         validation_log_ids=tuple(ctx.log_id for ctx in validation),
         max_attempts=gen_cfg.max_attempts,
-        plan=synthesizer.plan_for(description),
+        plan=plan,
     )
     if cache is not None:
         cache.put(key, report)

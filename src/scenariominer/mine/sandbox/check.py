@@ -180,6 +180,8 @@ class ErrorKind(StrEnum):
     """The program tried to allocate more memory than allowed."""
     INVALID_OUTPUT = "invalid_output"
     """The program finished without calling ``output_scenario`` exactly once with a scenario."""
+    PLAN = "plan"
+    """The description's plan names something the plan-to-program rules cannot express."""
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,240 @@
+"""From a description's plan to a mining program, without the model writing code.
+
+The plan step (:mod:`scenariominer.mine.plan`) reads a description into its subject, the other
+objects, the relations and the conditions, each named by an enum of what exists. This module
+turns such a plan into a program by fixed rules:
+
+* the subject is ``get_objects_of_category(log_dir, category=...)``;
+* each condition filters the subject (``scenario_not(f)(...)`` when negated), with the keyword
+  settings of its ``argument`` text that the function accepts;
+* each relation filters the subject by its related objects; when the plan names the other
+  object as the relation's subject (``being_crossed_by(ego, pedestrian)`` for "pedestrians
+  crossing in front of the ego"), the relation is reversed (``reverse_relationship``);
+* the result goes to ``output_scenario``.
+
+A plan the rules cannot use faithfully (a relation whose other object is not among the planned
+objects, a required setting missing, a value outside its choices) gives no program but a
+:class:`PlanCompileError` naming the part at fault, and the model writes the program instead.
+Settings that are not arguments of the function are left out and listed in the result's notes.
+"""
+
+from __future__ import annotations
+
+import inspect
+import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
+
+#: Version of the rules below; part of the program-cache key when they are used.
+PLAN_PROGRAM_VERSION = "plan-program/1"
+
+_EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
+_OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
+_SETTING = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*[=:]\s*(.+?)\s*$")
+_SCENARIO_PARAMS = ("track_candidates", "related_candidates", "log_dir")
+
+
+class PlanCompileError(ValueError):
+    """The plan cannot be turned into a program by the rules (the message names the part)."""
+
+
+@dataclass(frozen=True)
+class CompiledPlan:
+    """A program built from a plan.
+
+    Attributes:
+        program: the mining program text.
+        notes: settings of the plan left out, with the reason (empty when all were used).
+    """
+
+    program: str
+    notes: tuple[str, ...] = ()
+
+
+def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
+    """Build the program of ``plan`` (as :func:`scenariominer.mine.plan.extract_plan` returns it).
+
+    Raises:
+        PlanCompileError: the plan names something the rules cannot express (the message says what).
+    """
+    from scenariominer.mine.dsl import DSL_FUNCTIONS
+
+    if "error" in plan:
+        raise PlanCompileError(f"no plan: {plan['error']}")
+    notes: list[str] = []
+    subject_words = str(plan.get("subject_words", ""))
+    subject_category = str(plan.get("subject_category", ""))
+    if not subject_category:
+        raise PlanCompileError("the plan names no subject category")
+    lines = [f"subject = get_objects_of_category(log_dir, category={subject_category!r})"]
+    current = "subject"
+    step = 0
+    for cond in plan.get("conditions", []):
+        name = str(cond.get("function", ""))
+        func = DSL_FUNCTIONS.get(name)
+        if func is None:
+            raise PlanCompileError(f"condition {name!r} is not a mining function")
+        kwargs = _settings(name, func, cond.get("argument"), notes)
+        call = f"scenario_not({name})" if cond.get("negated") else name
+        step += 1
+        lines.append(f"step_{step} = {call}({current}, log_dir{_kwargs_text(kwargs)})")
+        current = f"step_{step}"
+
+    objects = _related_objects(plan, lines)
+    for rel in plan.get("relations", []):
+        name = str(rel.get("function", ""))
+        func = DSL_FUNCTIONS.get(name)
+        if func is None:
+            raise PlanCompileError(f"relation {name!r} is not a mining function")
+        other = _match_object(str(rel.get("other_words", "")), objects, subject_words, subject_category)
+        rel_words = str(rel.get("subject_words", ""))
+        rel_subject = (
+            "subject"
+            if not _norm(rel_words) or _norm(rel_words) == _norm(subject_words)
+            else _match_object(rel_words, objects, subject_words, subject_category)
+        )
+        direction = rel.get("direction")
+        kwargs = _settings(name, func, f"direction={direction}" if direction else None, notes)
+        step += 1
+        if rel_subject is not None and rel_subject != "subject" and other in (None, "subject"):
+            # the plan reads the relation from the other object's side: the subject is its target
+            lines.append(
+                f"step_{step} = reverse_relationship({name})({rel_subject}, {current}, log_dir"
+                f"{_kwargs_text(kwargs)})"
+            )
+        elif other is not None:
+            lines.append(f"step_{step} = {name}({current}, {other}, log_dir{_kwargs_text(kwargs)})")
+        else:
+            raise PlanCompileError(
+                f"relation {name}: {rel.get('other_words')!r} is not one of the planned objects"
+            )
+        current = f"step_{step}"
+    lines.append(f"output_scenario({current}, description, log_dir, output_dir)")
+    return CompiledPlan("\n".join(lines) + "\n", tuple(notes))
+
+
+def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str]:
+    """Define one object set per planned other object; its words (lower case) -> variable name."""
+    objects: dict[str, str] = {}
+    for index, obj in enumerate(plan.get("related", []), start=1):
+        category = str(obj.get("category", ""))
+        if not category:
+            raise PlanCompileError(f"other object {obj.get('words')!r} has no category")
+        var = f"related_{index}"
+        lines.append(f"{var} = get_objects_of_category(log_dir, category={category!r})")
+        objects[str(obj.get("words", "")).strip().lower()] = var
+    return objects
+
+
+def _match_object(
+    words: str, objects: Mapping[str, str], subject_words: str, subject_category: str
+) -> str | None:
+    """The variable a relation's words refer to, or ``None`` when none fits."""
+    text = _norm(words)
+    if not text:
+        return None
+    for obj_words, var in objects.items():
+        if _norm(obj_words) == text:
+            return var
+    for obj_words, var in objects.items():
+        norm = _norm(obj_words)
+        if norm and (f" {norm} " in f" {text} " or f" {text} " in f" {norm} "):
+            return var
+    if _OTHER_WORDS.search(text):
+        # "a vehicle behind another vehicle": the other is another member of the subject's category
+        return _same_category(subject_category)
+    if text == _norm(subject_words):
+        return "subject"
+    if _EGO_WORDS.search(text):
+        return _same_category("EGO_VEHICLE")
+    if len(objects) == 1:
+        return next(iter(objects.values()))
+    return None
+
+
+def _norm(words: str) -> str:
+    """Words compared without case, articles or a plural ``s`` ("the buses" ~ "bus")."""
+    kept = [w for w in re.findall(r"[a-z0-9]+", words.lower()) if w not in ("the", "a", "an")]
+    return " ".join(_singular(w) for w in kept)
+
+
+def _singular(word: str) -> str:
+    if word.endswith(("sses", "xes", "ches", "shes", "uses")):
+        return word[:-2]
+    if word.endswith("s") and not word.endswith(("ss", "us", "is")) and len(word) > 3:
+        return word[:-1]
+    return word
+
+
+def _same_category(category: str) -> str:
+    return f"get_objects_of_category(log_dir, category={category!r})"
+
+
+def _settings(name: str, func: Callable[..., Any], text: Any, notes: list[str]) -> dict[str, Any]:
+    """The keyword arguments of ``text`` (``"k=v, k2=v2"`` or a bare choice) that ``func`` accepts.
+
+    Raises:
+        PlanCompileError: a required setting is missing or a value is not one of its choices.
+    """
+    from scenariominer.mine.dsl._common import _DIRECTION_ALIASES, ARGUMENT_CHOICES
+
+    params = {
+        p.name: p
+        for p in inspect.signature(func).parameters.values()
+        if p.name not in _SCENARIO_PARAMS and p.kind is p.POSITIONAL_OR_KEYWORD
+    }
+    choices = ARGUMENT_CHOICES.get(name, {})
+    kwargs: dict[str, Any] = {}
+    for piece in str(text).split(",") if text else []:
+        match = _SETTING.match(piece)
+        key, raw = (match.group(1), match.group(2)) if match else (None, piece.strip())
+        value = _literal(raw)
+        if key is None:
+            # a bare word: the one text argument that accepts it
+            key = next((k for k, opts in choices.items() if _choice(value, opts) is not None), None)
+            if key is None:
+                notes.append(f"{name}: left out {piece.strip()!r} (not a setting of {name})")
+                continue
+        if key not in params:
+            notes.append(f"{name}: left out {piece.strip()!r} ({key} is not an argument of {name})")
+            continue
+        if key in choices:
+            if isinstance(value, str):
+                value = _DIRECTION_ALIASES.get(value.lower(), value)
+            chosen = _choice(value, choices[key])
+            if chosen is None and value is not None:
+                allowed = ", ".join(repr(o) for o in choices[key] if o is not None)
+                raise PlanCompileError(f"{name}: {key}={value!r} is not one of {allowed}")
+            value = chosen
+        elif not isinstance(value, int | float) or isinstance(value, bool):
+            notes.append(f"{name}: left out {piece.strip()!r} ({key} takes a number)")
+            continue
+        kwargs[key] = value
+    missing = [k for k, p in params.items() if p.default is inspect.Parameter.empty and k not in kwargs]
+    if missing:
+        raise PlanCompileError(f"{name}: the plan gives no {', '.join(missing)}")
+    return kwargs
+
+
+def _choice(value: Any, options: tuple[str | None, ...]) -> str | None:
+    for option in options:
+        if option is not None and isinstance(value, str) and value.lower() == option.lower():
+            return option
+    return None
+
+
+def _literal(raw: str) -> Any:
+    """A setting's value: a number, or text without its quotes."""
+    text = raw.strip().strip("'\"")
+    try:
+        number = float(text)
+    except ValueError:
+        return text
+    return int(number) if number.is_integer() and "." not in text else number
+
+
+def _kwargs_text(kwargs: Mapping[str, Any]) -> str:
+    return "".join(f", {k}={v!r}" for k, v in kwargs.items())

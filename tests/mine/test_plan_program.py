@@ -1,0 +1,148 @@
+"""Programs built from a description's plan by rules (mine/plan_program.py), and their place in the loop."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from mining_scenes import idx, street_scene
+
+from scenariominer.config.mining import GenerationConfig, MiningConfig
+from scenariominer.llm.client import ChatClient
+from scenariominer.llm.embeddings import HashingEmbedder
+from scenariominer.mine.loop import generate_program
+from scenariominer.mine.plan_program import PlanCompileError, compile_plan
+from scenariominer.mine.programs import load_examples
+from scenariominer.mine.sandbox import ErrorKind, ProgramResult, run_trusted_program
+from scenariominer.mine.synthesis import ExampleSelector, ProgramSynthesizer
+from scenariominer.testing import ScriptedBackend
+
+SCENE = street_scene()
+
+
+def _plan(category: str, *, related: Any = (), relations: Any = (), conditions: Any = ()) -> dict[str, Any]:
+    return {
+        "subject_words": category.lower(),
+        "subject_category": category,
+        "related": list(related),
+        "relations": list(relations),
+        "conditions": list(conditions),
+        "numbers": [],
+    }
+
+
+def _cond(function: str, argument: str | None = None, negated: bool = False) -> dict[str, Any]:
+    return {"function": function, "negated": negated, "argument": argument}
+
+
+def _referred(plan: dict[str, Any]) -> set[int]:
+    result = run_trusted_program(compile_plan(plan).program, SCENE, description="d")
+    assert result.ok, result.error
+    assert result.scenario is not None
+    return {int(i) for i in result.scenario.referred_tracks}
+
+
+def test_conditions_filter_the_subject_and_a_negated_one_is_wrapped_in_scenario_not() -> None:
+    moving = _referred(_plan("PEDESTRIAN", conditions=[_cond("stationary", negated=True)]))
+    assert moving == {idx(SCENE, "ped")}  # the only pedestrian that walks
+    left = _referred(_plan("VEHICLE", conditions=[_cond("changing_lanes", "direction='left'")]))
+    assert left == {idx(SCENE, "changer")}
+    # a bare word goes to the one text argument that accepts it
+    assert _referred(_plan("BUS", conditions=[_cond("on_lane_type", "BIKE")])) == {idx(SCENE, "bus")}
+
+
+def test_a_relation_read_from_the_other_objects_side_is_reversed() -> None:
+    plan = _plan(
+        "PEDESTRIAN",
+        related=[{"words": "ego", "category": "EGO_VEHICLE"}],
+        relations=[{"subject_words": "the ego", "function": "near_objects", "other_words": "pedestrians"}],
+    )
+    program = compile_plan(plan).program
+    assert "reverse_relationship(near_objects)(related_1, subject, log_dir)" in program
+    # the ego passes within 10 m of ped (x = 50), pedA and pedB (x = 20, 8 m off); ped2 stays 38 m away
+    assert _referred(plan) == {idx(SCENE, "ped"), idx(SCENE, "pedA"), idx(SCENE, "pedB")}
+
+
+def test_another_member_of_the_subjects_category_is_the_related_set() -> None:
+    plan = _plan(
+        "VEHICLE",
+        relations=[{"subject_words": "vehicle", "function": "following", "other_words": "another vehicle"}],
+    )
+    assert "following(subject, get_objects_of_category(log_dir, category='VEHICLE'), log_dir)" in (
+        compile_plan(plan).program
+    )
+    assert idx(SCENE, "changer") in _referred(plan)  # 20 m behind the ego... and behind the lead
+
+
+def test_settings_the_function_does_not_take_are_left_out_with_a_note() -> None:
+    compiled = compile_plan(_plan("VEHICLE", conditions=[_cond("stationary", "speed=3")]))
+    assert "speed" not in compiled.program
+    assert compiled.notes == ("stationary: left out 'speed=3' (speed is not an argument of stationary)",)
+    near = compile_plan(_plan("BUS", conditions=[_cond("near_intersection", "threshold=15")]))
+    assert "near_intersection(subject, log_dir, threshold=15)" in near.program and not near.notes
+
+
+@pytest.mark.parametrize(
+    ("plan", "message"),
+    [
+        (_plan("BUS", conditions=[_cond("on_lane_type")]), "on_lane_type: the plan gives no lane_type"),
+        (_plan("BUS", conditions=[_cond("on_lane_type", "lane_type='TRAM'")]), "'TRAM' is not one of"),
+        (_plan("BUS", conditions=[_cond("overtakes")]), "'overtakes' is not a mining function"),
+        (
+            _plan(
+                "VEHICLE",
+                related=[{"words": "bus", "category": "BUS"}, {"words": "truck", "category": "TRUCK"}],
+                relations=[{"subject_words": "vehicle", "function": "near_objects", "other_words": "tram"}],
+            ),
+            "'tram' is not one of the planned objects",
+        ),
+        ({"error": "no valid answer"}, "no plan"),
+    ],
+)
+def test_a_plan_the_rules_cannot_express_names_the_part_at_fault(plan: dict[str, Any], message: str) -> None:
+    with pytest.raises(PlanCompileError, match=message.replace("(", r"\(")):
+        compile_plan(plan)
+
+
+def _trusted(program: str, context, description: str) -> ProgramResult:  # type: ignore[no-untyped-def]
+    return run_trusted_program(program, context, description=description)
+
+
+def _synth(replies: list[str]) -> tuple[ProgramSynthesizer, ScriptedBackend]:
+    backend = ScriptedBackend(replies)
+    config = GenerationConfig(max_attempts=2, plan=True, plan_program=True)
+    selector = ExampleSelector(load_examples(), HashingEmbedder(128))
+    return ProgramSynthesizer(ChatClient(backend), selector, config), backend
+
+
+BUSES = "buses in the bike lane"
+WRITTEN = (
+    "```python\n"
+    "buses = get_objects_of_category(log_dir, category='BUS')\n"
+    "output_scenario(on_lane_type(buses, log_dir, lane_type='BIKE'), description, log_dir, output_dir)\n"
+    "```"
+)
+
+
+def test_the_loop_runs_the_plans_program_without_asking_the_model_to_write_one() -> None:
+    plan = _plan("BUS", conditions=[_cond("on_lane_type", "lane_type='BIKE'")])
+    synth, backend = _synth([json.dumps(plan)])
+    report = generate_program(BUSES, synth, [SCENE], config=MiningConfig(), runner=_trusted)
+
+    assert report.ok and len(backend.requests) == 1  # the plan call only
+    assert report.program is not None and "on_lane_type(subject, log_dir, lane_type='BIKE')" in report.program
+    assert [a.index for a in report.attempts] == [0] and report.attempts_used == 0
+
+
+def test_when_the_rules_cannot_express_the_plan_the_model_writes_the_program() -> None:
+    plan = _plan("BUS", conditions=[_cond("on_lane_type")])  # no lane type: no program by rules
+    synth, backend = _synth([json.dumps(plan), WRITTEN])
+    report = generate_program(BUSES, synth, [SCENE], config=MiningConfig(), runner=_trusted)
+
+    assert report.ok and report.program is not None and "buses" in report.program
+    first, written = report.attempts
+    assert first.index == 0 and first.error is not None and first.error.kind is ErrorKind.PLAN
+    assert "lane_type" in first.error.message
+    assert written.index == 1 and written.error is None and report.attempts_used == 1
+    assert len(backend.requests) == 2  # the plan, then one program
