@@ -133,19 +133,18 @@ def savgol_rows(block: FloatArray, window: int, order: int, deriv: int, delta_s:
 def smooth(log: Log, cfg: PreprocessConfig) -> Log:
     """Savitzky-Golay smoothing of positions (and heading) with derived velocity/acceleration.
 
-    Tracks too short for the configured window use the longest odd window that fits; spans too
-    short for any window (fewer than ``polyorder + 1`` samples) keep their raw values and get
-    finite-difference kinematics. All spans of equal length are filtered in one matrix product.
+    Spans (maximal runs of valid cells) at least one full window long, nearly all of them, are
+    filtered together over the whole ``(N, T)`` array: one sliding-window product for every
+    interior cell and one product per span edge for the edge fits. Shorter spans use the longest
+    odd window that fits, one matrix product per distinct length; spans too short for any window
+    (fewer than ``polyorder + 1`` samples) keep their raw values and get finite-difference
+    kinematics.
     """
     n, t = log.valid.shape
     t_s = log.t_s
     dt_s = float(np.median(np.diff(t_s))) if t > 1 else 0.0
-    x, y = log.x_m.copy(), log.y_m.copy()
-    yaw = log.yaw_rad.copy()
-    vx, vy = np.full((n, t), np.nan), np.full((n, t), np.nan)
-    ax, ay = np.full((n, t), np.nan), np.full((n, t), np.nan)
+    out = _Smoothed(log)
 
-    # Observed spans (maximal runs of valid cells), vectorised over the whole (N, T) mask.
     padded = np.zeros((n, t + 2), dtype=bool)
     padded[:, 1:-1] = log.valid
     edges = np.diff(padded.astype(np.int8), axis=1)
@@ -153,42 +152,144 @@ def smooth(log: Log, cfg: PreprocessConfig) -> Log:
     _, span_stop = np.nonzero(edges == -1)
     lengths = span_stop - span_start
 
+    full = window_samples(cfg.smooth_window_s, dt_s, t, cfg.smooth_polyorder)
+    long_spans = lengths >= full if full else np.zeros(lengths.shape, dtype=bool)
+    if long_spans.any():
+        _smooth_full_window(log, out, cfg, dt_s, full, span_rows[long_spans], span_start[long_spans],
+                            span_stop[long_spans])  # fmt: skip
     rough = np.zeros((n, t), dtype=bool)
-    for length in np.unique(lengths):
-        sel = lengths == length
+    short = ~long_spans
+    for length in np.unique(lengths[short]):
+        sel = short & (lengths == length)
         rows, starts = span_rows[sel], span_start[sel]
-        w = window_samples(cfg.smooth_window_s, dt_s, int(length), cfg.smooth_polyorder)
         cols = starts[:, None] + np.arange(length)[None, :]
         rr = np.broadcast_to(rows[:, None], cols.shape)
+        w = window_samples(cfg.smooth_window_s, dt_s, int(length), cfg.smooth_polyorder)
         if w == 0:
             rough[rr, cols] = True
             continue
-        order = min(cfg.smooth_polyorder, w - 1)
-        for src, pos, vel, acc in ((log.x_m, x, vx, ax), (log.y_m, y, vy, ay)):
-            block = src[rr, cols]
-            pos[rr, cols] = savgol_rows(block, w, order, 0, dt_s)
-            v = savgol_rows(block, w, order, 1, dt_s)
-            vel[rr, cols] = v
-            acc[rr, cols] = (
-                savgol_rows(block, w, order, 2, dt_s) if order >= 2 else np.gradient(v, dt_s, axis=1)
-            )
-        if cfg.smooth_yaw:
-            unwrapped = np.unwrap(log.yaw_rad[rr, cols], axis=1)
-            yaw[rr, cols] = wrap_angle(savgol_rows(unwrapped, w, order, 0, dt_s))
+        _smooth_block(log, out, cfg, dt_s, w, rr, cols)
 
     if rough.any():
         rows_all = np.flatnonzero(rough.any(axis=1))
-        for src, vel, acc in ((log.x_m, vx, ax), (log.y_m, vy, ay)):
+        for src, vel, acc in ((log.x_m, out.vx, out.ax), (log.y_m, out.vy, out.ay)):
             masked = np.where(rough, src, np.nan)[rows_all]
             v = time_derivative(masked, t_s)
             a = time_derivative(v, t_s)
             vel[rows_all] = np.where(rough[rows_all], v, vel[rows_all])
             acc[rows_all] = np.where(rough[rows_all], a, acc[rows_all])
+    return out.to_log(log)
 
-    invalid = ~log.valid
-    for arr in (x, y, yaw, vx, vy, ax, ay):
-        arr[invalid] = np.nan
-    return log.replace(x_m=x, y_m=y, yaw_rad=yaw, vx_mps=vx, vy_mps=vy, ax_mps2=ax, ay_mps2=ay)
+
+class _Smoothed:
+    """The output arrays of :func:`smooth`, ``(N, T)`` each, filled span by span."""
+
+    def __init__(self, log: Log) -> None:
+        n, t = log.valid.shape
+        self.x, self.y, self.yaw = log.x_m.copy(), log.y_m.copy(), log.yaw_rad.copy()
+        self.vx, self.vy = np.full((n, t), np.nan), np.full((n, t), np.nan)
+        self.ax, self.ay = np.full((n, t), np.nan), np.full((n, t), np.nan)
+
+    def to_log(self, log: Log) -> Log:
+        arrays = (self.x, self.y, self.yaw, self.vx, self.vy, self.ax, self.ay)
+        invalid = ~log.valid
+        for arr in arrays:
+            arr[invalid] = np.nan
+        names = ("x_m", "y_m", "yaw_rad", "vx_mps", "vy_mps", "ax_mps2", "ay_mps2")
+        return log.replace(**dict(zip(names, arrays, strict=True)))
+
+
+def _smooth_block(
+    log: Log, out: _Smoothed, cfg: PreprocessConfig, dt_s: float, w: int, rr: NDArray[np.intp],
+    cols: NDArray[np.intp],
+) -> None:  # fmt: skip
+    """Filter spans of one length, gathered as ``(K, L)`` row/column indices, with window ``w``."""
+    order = min(cfg.smooth_polyorder, w - 1)
+    for src, pos, vel, acc in ((log.x_m, out.x, out.vx, out.ax), (log.y_m, out.y, out.vy, out.ay)):
+        block = src[rr, cols]
+        pos[rr, cols] = savgol_rows(block, w, order, 0, dt_s)
+        v = savgol_rows(block, w, order, 1, dt_s)
+        vel[rr, cols] = v
+        acc[rr, cols] = savgol_rows(block, w, order, 2, dt_s) if order >= 2 else np.gradient(v, dt_s, axis=1)
+    if cfg.smooth_yaw:
+        unwrapped = np.unwrap(log.yaw_rad[rr, cols], axis=1)
+        out.yaw[rr, cols] = wrap_angle(savgol_rows(unwrapped, w, order, 0, dt_s))
+
+
+def _smooth_full_window(
+    log: Log, out: _Smoothed, cfg: PreprocessConfig, dt_s: float, w: int, rows: NDArray[np.intp],
+    starts: NDArray[np.intp], stops: NDArray[np.intp],
+) -> None:  # fmt: skip
+    """Filter every span of at least ``w`` samples (``rows``, ``starts``, ``stops``: ``(S,)``) at once.
+
+    Interior cells come from one sliding-window product over the rows that hold such spans (a
+    window centred on an interior cell lies inside its span, so the values outside spans never
+    enter); the first and last ``w // 2`` cells of each span from the edge weights applied to
+    the span's first and last ``w`` samples.
+    """
+    order = min(cfg.smooth_polyorder, w - 1)
+    half = w // 2
+    t = log.valid.shape[1]
+    owners, local = np.unique(rows, return_inverse=True)  # the rows holding long spans
+    interior = np.zeros((owners.size, t + 1), dtype=np.int8)
+    np.add.at(interior, (local, starts + half), 1)
+    np.add.at(interior, (local, stops - half), -1)
+    inner = np.cumsum(interior[:, :t], axis=1) > 0
+    head = starts[:, None] + np.arange(w)[None, :]  # (S, w) first window of each span
+    tail = stops[:, None] - w + np.arange(w)[None, :]  # (S, w) last window
+    head_cells = starts[:, None] + np.arange(half)[None, :]
+    tail_cells = stops[:, None] - half + np.arange(half)[None, :]
+
+    def apply(values: FloatArray, deriv: int) -> FloatArray:
+        """The filtered ``(R, T)`` values of the owner rows (garbage outside the long spans)."""
+        centre, left, right = _sg_weights(w, order, deriv, dt_s)
+        result = np.zeros_like(values)
+        result[:, half : t - half] = np.lib.stride_tricks.sliding_window_view(values, w, axis=1) @ centre
+        full_rows = values[local]
+        result[local[:, None], head_cells] = np.take_along_axis(full_rows, head, axis=1) @ left.T
+        result[local[:, None], tail_cells] = np.take_along_axis(full_rows, tail, axis=1) @ right.T
+        return result
+
+    span_mask = inner.copy()
+    span_mask[local[:, None], head_cells] = True
+    span_mask[local[:, None], tail_cells] = True
+    targets = [(log.x_m, out.x, out.vx, out.ax), (log.y_m, out.y, out.vy, out.ay)]
+    for src, pos, vel, acc in targets:
+        values = np.nan_to_num(src[owners], nan=0.0, posinf=0.0, neginf=0.0)
+        _put(pos, owners, span_mask, apply(values, 0))
+        _put(vel, owners, span_mask, apply(values, 1))
+        if order >= 2:
+            _put(acc, owners, span_mask, apply(values, 2))
+        else:  # a first-order fit has no second derivative: difference the velocity within each span
+            v = apply(values, 1)
+            a = np.gradient(v, dt_s, axis=1)
+            last = stops - 1
+            a[local, starts] = (v[local, starts + 1] - v[local, starts]) / dt_s
+            a[local, last] = (v[local, last] - v[local, last - 1]) / dt_s
+            _put(acc, owners, span_mask, a)
+    if cfg.smooth_yaw:
+        _put(out.yaw, owners, span_mask, wrap_angle(apply(_unwrap_rows(log.yaw_rad[owners]), 0)))
+
+
+def _unwrap_rows(yaw_rad: FloatArray) -> FloatArray:
+    """Unwrap each row's heading across its valid cells (NaN cells repeat the last valid value).
+
+    Within a run of valid cells the result differs from ``np.unwrap`` of that run alone by a
+    whole number of turns, which the caller's final wrap removes.
+    """
+    valid = np.isfinite(yaw_rad)
+    last = np.where(valid, np.arange(yaw_rad.shape[1])[None, :], 0)
+    np.maximum.accumulate(last, axis=1, out=last)
+    filled = np.take_along_axis(np.where(valid, yaw_rad, 0.0), last, axis=1)
+    unwrapped: FloatArray = np.unwrap(filled, axis=1)
+    return unwrapped
+
+
+def _put(target: FloatArray, owners: NDArray[np.intp], mask: NDArray[np.bool_], values: FloatArray) -> None:
+    """``target[owners][mask] = values[mask]`` written through to ``target``."""
+    block = target[owners]
+    block[mask] = values[mask]
+    target[owners] = block
 
 
 def preprocess(log: Log, cfg: PreprocessConfig | None = None) -> Log:
