@@ -32,6 +32,7 @@ PLAN = {
             "function": "has_objects_in_relative_direction",
             "other_words": "bicycle",
             "direction": "right",
+            "argument": None,
         }
     ],
     "conditions": [],

@@ -146,3 +146,31 @@ def test_when_the_rules_cannot_express_the_plan_the_model_writes_the_program() -
     assert "lane_type" in first.error.message
     assert written.index == 1 and written.error is None and report.attempts_used == 1
     assert len(backend.requests) == 2  # the plan, then one program
+
+
+def test_a_relations_direction_goes_to_the_argument_that_accepts_it_and_its_settings_are_kept() -> None:
+    plan = _plan(
+        "VEHICLE",
+        related=[{"words": "ego", "category": "EGO_VEHICLE"}, {"words": "people", "category": "PEDESTRIAN"}],
+        relations=[
+            {"subject_words": "vehicles", "function": "on_relative_side_of_road", "other_words": "the ego",
+             "direction": "opposite"},
+            {"subject_words": "vehicles", "function": "near_objects", "other_words": "people",
+             "argument": "distance_thresh=5, min_objects=3"},
+        ],
+    )  # fmt: skip
+    program = compile_plan(plan).program
+    assert "on_relative_side_of_road(subject, related_1, log_dir, side='opposite')" in program
+    assert "near_objects(step_1, related_2, log_dir, distance_thresh=5, min_objects=3)" in program
+    # "behind" is read as "backward"; this function returns its second set, so the subject goes there
+    for subject_words, other_words in (("ego", "vehicles"), ("vehicles", "the ego")):
+        behind = _plan(
+            "VEHICLE",
+            related=[{"words": "ego", "category": "EGO_VEHICLE"}],
+            relations=[{"subject_words": subject_words, "function": "get_objects_in_relative_direction",
+                        "other_words": other_words, "direction": "behind"}],
+        )  # fmt: skip
+        program = compile_plan(behind).program
+        assert (
+            "get_objects_in_relative_direction(related_1, subject, log_dir, direction='backward')" in program
+        )

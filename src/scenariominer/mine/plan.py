@@ -72,6 +72,7 @@ def plan_model() -> type[BaseModel]:
         function=(relation, ...),
         other_words=words,
         direction=(str | None, Field(default=None, max_length=20)),
+        argument=(str | None, Field(default=None, max_length=60)),
         __config__=ConfigDict(extra="forbid"),
     )
     cond = create_model(
@@ -125,10 +126,9 @@ def plan_text(plan: dict[str, Any]) -> str:
     for obj in plan.get("related", []):
         lines.append(f"- other objects: {obj['words']} -> category {obj['category']}")
     for rel in plan.get("relations", []):
-        direction = f", direction={rel['direction']!r}" if rel.get("direction") else ""
-        lines.append(
-            f"- relation: {rel['function']}({rel['subject_words']}, {rel['other_words']}{direction})"
-        )
+        settings = f", direction={rel['direction']!r}" if rel.get("direction") else ""
+        settings += f", {rel['argument']}" if rel.get("argument") else ""
+        lines.append(f"- relation: {rel['function']}({rel['subject_words']}, {rel['other_words']}{settings})")
     for cond in plan.get("conditions", []):
         arg = f", {cond['argument']}" if cond.get("argument") else ""
         call = f"{cond['function']}({plan['subject_words']}{arg})"

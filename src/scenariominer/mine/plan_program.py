@@ -34,6 +34,8 @@ PLAN_PROGRAM_VERSION = "plan-program/1"
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
 _SETTING = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*[=:]\s*(.+?)\s*$")
+#: Relation functions whose result is their second object set (the related candidates).
+_RETURNS_RELATED = frozenset({"get_objects_in_relative_direction"})
 _SCENARIO_PARAMS = ("track_candidates", "related_candidates", "log_dir")
 
 
@@ -96,10 +98,17 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
             if not _norm(rel_words) or _norm(rel_words) == _norm(subject_words)
             else _match_object(rel_words, objects, subject_words, subject_category)
         )
-        direction = rel.get("direction")
-        kwargs = _settings(name, func, f"direction={direction}" if direction else None, notes)
+        # the direction is a bare word: it goes to the text argument that accepts it (side=... too)
+        settings = ", ".join(str(v) for v in (rel.get("direction"), rel.get("argument")) if v)
+        kwargs = _settings(name, func, settings or None, notes)
         step += 1
-        if rel_subject is not None and rel_subject != "subject" and other in (None, "subject"):
+        if name in _RETURNS_RELATED:
+            # the function returns its second set: the subject goes there, the other object first
+            anchor = rel_subject if rel_subject not in (None, "subject") else other
+            if anchor in (None, "subject"):
+                raise PlanCompileError(f"relation {name}: no object other than the subject to look from")
+            lines.append(f"step_{step} = {name}({anchor}, {current}, log_dir{_kwargs_text(kwargs)})")
+        elif rel_subject is not None and rel_subject != "subject" and other in (None, "subject"):
             # the plan reads the relation from the other object's side: the subject is its target
             lines.append(
                 f"step_{step} = reverse_relationship({name})({rel_subject}, {current}, log_dir"
@@ -192,6 +201,8 @@ def _settings(name: str, func: Callable[..., Any], text: Any, notes: list[str]) 
         match = _SETTING.match(piece)
         key, raw = (match.group(1), match.group(2)) if match else (None, piece.strip())
         value = _literal(raw)
+        if isinstance(value, str):
+            value = _DIRECTION_ALIASES.get(value.lower(), value)
         if key is None:
             # a bare word: the one text argument that accepts it
             key = next((k for k, opts in choices.items() if _choice(value, opts) is not None), None)
@@ -202,8 +213,6 @@ def _settings(name: str, func: Callable[..., Any], text: Any, notes: list[str]) 
             notes.append(f"{name}: left out {piece.strip()!r} ({key} is not an argument of {name})")
             continue
         if key in choices:
-            if isinstance(value, str):
-                value = _DIRECTION_ALIASES.get(value.lower(), value)
             chosen = _choice(value, choices[key])
             if chosen is None and value is not None:
                 allowed = ", ".join(repr(o) for o in choices[key] if o is not None)

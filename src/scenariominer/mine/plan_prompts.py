@@ -1,7 +1,7 @@
 """Prompt of the plan step (:mod:`scenariominer.mine.plan`): read a description, name its parts.
 
-The worked examples below use descriptions of the shipped example bank's *dev* side only (never
-the hold-out part of ``eval/nl2prog_set.toml``), written by hand for this prompt.
+The worked examples below use descriptions of the shipped example bank and of the *dev* split of
+``eval/nl2prog_set.toml`` only (never its hold-out split), written by hand for this prompt.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import Any
 __all__ = ["PLAN_PROMPT_VERSION", "plan_system_prompt", "plan_user_prompt"]
 
 #: Version of the texts below; part of the program-cache key through the request text.
-PLAN_PROMPT_VERSION = "mining-plan/1"
+PLAN_PROMPT_VERSION = "mining-plan/2"
 
 _ROLE = """You read a description of a driving scenario and write down its parts as JSON, before \
 a program is written for it. Name only what the description says:
@@ -23,10 +23,15 @@ category; a plural or a synonym maps to the same category ("cars", "a car" -> RE
 "vehicles" -> VEHICLE; "people" -> PEDESTRIAN).
 - related: other objects the subject is related to, with their categories (empty if none).
 - relations: how the subject relates to each other object, as one of the relation functions \
-below (direction only when the description gives one: left, right, forward, backward).
+below. subject_words is the object that comes first in the function's call: when the function \
+is read from the other object's side ("pedestrians crossing in front of a vehicle": the vehicle \
+is crossed), put the other object there. direction only when the description gives one \
+(left, right, forward, backward; same, opposite, perpendicular for headings and sides); \
+argument holds other settings the description states, as keyword=value.
 - conditions: what holds for the subject alone, as one of the condition functions below \
-(negated when the description says "not"/"without"); argument is a short keyword setting \
-such as direction='left' or lane_type='BUS' when the description implies one.
+(negated when the description says "not"/"without"/"away from"); argument is a short keyword \
+setting of that function such as direction='left', lane_type='BUS' or min_velocity=10 when the \
+description implies one.
 - numbers: only numbers written in the description, with their unit and what they bound.
 Leave a list empty rather than guess."""
 
@@ -63,6 +68,61 @@ _EXAMPLES: tuple[tuple[str, dict[str, Any]], ...] = (
             "numbers": [{"value": 15, "unit": "m", "meaning": "distance to the intersection"}],
         },
     ),
+    (
+        "pedestrians crossing the road in front of a vehicle",
+        {
+            "subject_words": "pedestrians",
+            "subject_category": "PEDESTRIAN",
+            "related": [{"words": "vehicle", "category": "VEHICLE"}],
+            "relations": [
+                {
+                    "subject_words": "vehicle",
+                    "function": "being_crossed_by",
+                    "other_words": "pedestrians",
+                    "direction": "forward",
+                    "argument": None,
+                }
+            ],
+            "conditions": [],
+            "numbers": [],
+        },
+    ),
+    (
+        "vehicles surrounded by three or more people within 5 meters",
+        {
+            "subject_words": "vehicles",
+            "subject_category": "VEHICLE",
+            "related": [{"words": "people", "category": "PEDESTRIAN"}],
+            "relations": [
+                {
+                    "subject_words": "vehicles",
+                    "function": "near_objects",
+                    "other_words": "people",
+                    "direction": None,
+                    "argument": "distance_thresh=5, min_objects=3",
+                }
+            ],
+            "conditions": [],
+            "numbers": [
+                {"value": 3, "unit": "count", "meaning": "number of people"},
+                {"value": 5, "unit": "m", "meaning": "distance to the people"},
+            ],
+        },
+    ),
+    (
+        "pedestrians walking on the road away from any crosswalk",
+        {
+            "subject_words": "pedestrians",
+            "subject_category": "PEDESTRIAN",
+            "related": [],
+            "relations": [],
+            "conditions": [
+                {"function": "on_road", "negated": False, "argument": None},
+                {"function": "at_pedestrian_crossing", "negated": True, "argument": None},
+            ],
+            "numbers": [],
+        },
+    ),
 )
 
 
@@ -71,12 +131,21 @@ def _summary(func: Callable[..., Any]) -> str:
     return doc.splitlines()[0] if doc else ""
 
 
+def _settings(func: Callable[..., Any]) -> str:
+    """The function's own settings with their defaults (``direction, min_number=1``)."""
+    skip = {"track_candidates", "related_candidates", "log_dir"}
+    params = [p for p in inspect.signature(func).parameters.values() if p.name not in skip]
+    return ", ".join(
+        p.name if p.default is inspect.Parameter.empty else f"{p.name}={p.default!r}" for p in params
+    )
+
+
 def plan_system_prompt(functions: Mapping[str, Callable[..., Any]]) -> str:
     """The system message: role, the relation and condition functions (one line each), examples."""
     relations: list[str] = []
     conditions: list[str] = []
     for name, func in functions.items():
-        line = f"- {name}: {_summary(func)}"
+        line = f"- {name}({_settings(func)}): {_summary(func)}"
         (relations if "related_candidates" in inspect.signature(func).parameters else conditions).append(line)
     examples = "\n\n".join(
         f"Description: {text}\nPlan: {json.dumps(plan, separators=(',', ':'))}" for text, plan in _EXAMPLES
