@@ -9,6 +9,7 @@ from scenariominer.config import Config
 from scenariominer.data.ingest import MemorySink, ingest_sources
 from scenariominer.data.log import Log
 from scenariominer.data.sources import InMemoryReader, LogSource
+from scenariominer.exec.local import InlineExecutor
 from scenariominer.testing import LogBuilder, times
 
 
@@ -34,3 +35,33 @@ def test_an_unexpected_error_fails_its_source_alone_and_names_it(tmp_path: Path)
     assert status["memory:odd"][0] == "failed"
     assert "unexpected TypeError while reading (unsupported operand" in status["memory:odd"][1]
     assert [log.log_id for log in sink.all_logs()] == ["fine"]
+
+
+class _CountingExecutor(InlineExecutor):
+    """Runs items here, counting how often the loop handed it work."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.calls = 0
+
+    def map(self, fn, items, **kwargs):  # type: ignore[no-untyped-def, override]
+        self.calls += 1
+        return super().map(fn, items, **kwargs)
+
+
+def test_a_batch_under_min_pool_bytes_is_ingested_here_without_the_executor(tmp_path: Path) -> None:
+    from scenariominer import api
+
+    api.synth(tmp_path / "logs", 2, seed=1)
+    size = sum(f.stat().st_size for f in (tmp_path / "logs").rglob("*") if f.is_file())
+    for threshold, expected_calls in ((size * 10, 0), (size // 10, 1), (0, 1)):
+        sink = MemorySink()
+        executor = _CountingExecutor()
+        results = ingest_sources(
+            [tmp_path / "logs"], sink, Config(), executor=executor, reopen=lambda s=sink: s,
+            min_pool_bytes=threshold,
+        )  # fmt: skip
+        assert executor.calls == expected_calls, threshold
+        assert [r.status for r in results] == ["ingested", "ingested"]
+        assert len(sink.all_logs()) == 2
+    assert Config().exec.min_ingest_bytes > 0  # on by default for the process executor

@@ -112,7 +112,8 @@ def ingest(
         readers: log readers to try (defaults to the built-in adapters).
         progress: progress sink (a Rich bar in the CLI).
         executor: where sources are read and committed (default: ``config.exec``, a local
-            process pool); see :mod:`scenariominer.exec`.
+            process pool, or this process for a batch under ``exec.min_ingest_bytes``); see
+            :mod:`scenariominer.exec`.
 
     Bad input never aborts the batch: a missing path, a path with nothing recognisable, and a source
     that cannot be read or fails validation are reported in ``failed`` with the cause, and every
@@ -120,10 +121,14 @@ def ingest(
     """
     config = config or load_config()
     t0 = time.perf_counter()
+    # A small batch runs here unless the caller chose the executor: workers take longer to start.
+    small_below = (
+        config.exec.min_ingest_bytes if executor is None and config.exec.executor == "process" else 0
+    )
     with executor_for(config, executor) as runner:
         results = ingest_sources(
             paths, store, config, force=force, readers=readers, progress=progress,
-            executor=runner, reopen=StoreRef.of(store),
+            executor=runner, reopen=StoreRef.of(store), min_pool_bytes=small_below,
         )  # fmt: skip
     written = [r for r in results if r.status == "ingested"]
     return IngestReport(

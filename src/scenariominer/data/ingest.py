@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import stat
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
@@ -117,6 +118,7 @@ def ingest_sources(
     progress: Progress | None = None,
     executor: Executor | None = None,
     reopen: Callable[[], LogSink] | None = None,
+    min_pool_bytes: int = 0,
 ) -> list[SourceResult]:
     """Run the ingestion loop over every source found under ``paths``.
 
@@ -126,7 +128,8 @@ def ingest_sources(
 
     With an ``executor`` and ``reopen`` (a picklable function that opens the same sink in a worker,
     e.g. a :class:`~scenariominer.store.StoreRef`), each source is read, preprocessed and committed
-    by a worker; discovery stays here. Custom ``readers`` always run in this process.
+    by a worker; discovery stays here. Custom ``readers`` always run in this process, and so does
+    a batch whose files total fewer than ``min_pool_bytes`` (starting workers would take longer).
     """
     progress = progress or NullProgress()
     results: list[SourceResult] = []
@@ -143,7 +146,8 @@ def ingest_sources(
         seen.update(s.key for s in found)
         sources += found
     fingerprint = pipeline_fingerprint(config)
-    if executor is not None and reopen is not None and readers is None:
+    small = min_pool_bytes > 0 and _total_bytes(sources) < min_pool_bytes
+    if executor is not None and reopen is not None and readers is None and not small:
         task = IngestTask(reopen, config, fingerprint, force)
         with step(progress, "ingest", len(sources)):
             outcomes = executor.map(
@@ -157,6 +161,20 @@ def ingest_sources(
             name = Path(source.key).name
             progress.advance(1, name if result.status == "ingested" else f"{result.status} {name}")
     return results
+
+
+def _total_bytes(sources: Sequence[LogSource]) -> int:
+    """Bytes of every regular file of ``sources`` (what an ingest reads; others count as 0)."""
+    total = 0
+    for source in sources:
+        for path in source.files:
+            try:
+                st = path.stat()
+            except OSError:
+                continue
+            if stat.S_ISREG(st.st_mode):
+                total += st.st_size
+    return total
 
 
 @dataclass(frozen=True)
