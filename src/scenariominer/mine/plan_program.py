@@ -67,7 +67,6 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     if "error" in plan:
         raise PlanCompileError(f"no plan: {plan['error']}")
     notes: list[str] = []
-    subject_words = str(plan.get("subject_words", ""))
     subject_category = str(plan.get("subject_category", ""))
     if not subject_category:
         raise PlanCompileError("the plan names no subject category")
@@ -87,42 +86,52 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
 
     objects = _related_objects(plan, lines)
     for rel in plan.get("relations", []):
-        name = str(rel.get("function", ""))
-        func = DSL_FUNCTIONS.get(name)
-        if func is None:
-            raise PlanCompileError(f"relation {name!r} is not a mining function")
-        other = _match_object(str(rel.get("other_words", "")), objects, subject_words, subject_category)
-        rel_words = str(rel.get("subject_words", ""))
-        rel_subject = (
-            "subject"
-            if not _norm(rel_words) or _norm(rel_words) == _norm(subject_words)
-            else _match_object(rel_words, objects, subject_words, subject_category)
-        )
-        # the direction is a bare word: it goes to the text argument that accepts it (side=... too)
-        settings = ", ".join(str(v) for v in (rel.get("direction"), rel.get("argument")) if v)
-        kwargs = _settings(name, func, settings or None, notes)
         step += 1
-        if name in _RETURNS_RELATED:
-            # the function returns its second set: the subject goes there, the other object first
-            anchor = rel_subject if rel_subject not in (None, "subject") else other
-            if anchor in (None, "subject"):
-                raise PlanCompileError(f"relation {name}: no object other than the subject to look from")
-            lines.append(f"step_{step} = {name}({anchor}, {current}, log_dir{_kwargs_text(kwargs)})")
-        elif rel_subject is not None and rel_subject != "subject" and other in (None, "subject"):
-            # the plan reads the relation from the other object's side: the subject is its target
-            lines.append(
-                f"step_{step} = reverse_relationship({name})({rel_subject}, {current}, log_dir"
-                f"{_kwargs_text(kwargs)})"
-            )
-        elif other is not None:
-            lines.append(f"step_{step} = {name}({current}, {other}, log_dir{_kwargs_text(kwargs)})")
-        else:
-            raise PlanCompileError(
-                f"relation {name}: {rel.get('other_words')!r} is not one of the planned objects"
-            )
+        lines.append(f"step_{step} = {_relation_call(rel, current, objects, plan, notes)}")
         current = f"step_{step}"
     lines.append(f"output_scenario({current}, description, log_dir, output_dir)")
     return CompiledPlan("\n".join(lines) + "\n", tuple(notes))
+
+
+def _relation_call(
+    rel: Mapping[str, Any],
+    current: str,
+    objects: Mapping[str, str],
+    plan: Mapping[str, Any],
+    notes: list[str],
+) -> str:
+    """The call that filters ``current`` (the subject so far) by one planned relation."""
+    from scenariominer.mine.dsl import DSL_FUNCTIONS
+
+    name = str(rel.get("function", ""))
+    func = DSL_FUNCTIONS.get(name)
+    if func is None:
+        raise PlanCompileError(f"relation {name!r} is not a mining function")
+    subject_words, category = str(plan.get("subject_words", "")), str(plan.get("subject_category", ""))
+    other = _match_object(str(rel.get("other_words", "")), objects, subject_words, category)
+    rel_words = str(rel.get("subject_words", ""))
+    rel_subject = (
+        "subject"
+        if not _norm(rel_words) or _norm(rel_words) == _norm(subject_words)
+        else _match_object(rel_words, objects, subject_words, category)
+    )
+    # the direction is a bare word: it goes to the text argument that accepts it (side=... too)
+    settings = ", ".join(str(v) for v in (rel.get("direction"), rel.get("argument")) if v)
+    kwargs = _kwargs_text(_settings(name, func, settings or None, notes))
+    if name in _RETURNS_RELATED:
+        # the function returns its second set: the subject goes there, the other object first
+        anchor = rel_subject if rel_subject not in (None, "subject") else other
+        if anchor in (None, "subject"):
+            raise PlanCompileError(f"relation {name}: no object other than the subject to look from")
+        return f"{name}({anchor}, {current}, log_dir{kwargs})"
+    if rel_subject not in (None, "subject") and other in (None, "subject"):
+        # the plan reads the relation from the other object's side: the subject is its target
+        return f"reverse_relationship({name})({rel_subject}, {current}, log_dir{kwargs})"
+    if other is None:
+        raise PlanCompileError(
+            f"relation {name}: {rel.get('other_words')!r} is not one of the planned objects"
+        )
+    return f"{name}({current}, {other}, log_dir{kwargs})"
 
 
 def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str]:
