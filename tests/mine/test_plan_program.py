@@ -174,3 +174,20 @@ def test_a_relations_direction_goes_to_the_argument_that_accepts_it_and_its_sett
         assert (
             "get_objects_in_relative_direction(related_1, subject, log_dir, direction='backward')" in program
         )
+
+
+def test_words_that_name_the_ego_select_the_ego_whatever_category_was_planned() -> None:
+    plan = _plan(
+        "PEDESTRIAN",
+        related=[{"words": "ego vehicle", "category": "VEHICLE"}],
+        relations=[
+            {"subject_words": "ego vehicle", "function": "near_objects", "other_words": "pedestrians"}
+        ],
+    )
+    assert (
+        "related_1 = get_objects_of_category(log_dir, category='EGO_VEHICLE')" in compile_plan(plan).program
+    )
+    ego = {**_plan("VEHICLE", conditions=[_cond("turning", "left")]), "subject_words": "the ego car"}
+    assert compile_plan(ego).program.startswith(
+        "subject = get_objects_of_category(log_dir, category='EGO_VEHICLE')"
+    )

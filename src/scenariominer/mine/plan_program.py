@@ -29,7 +29,7 @@ from typing import Any
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/1"
+PLAN_PROGRAM_VERSION = "plan-program/2"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -67,7 +67,7 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     if "error" in plan:
         raise PlanCompileError(f"no plan: {plan['error']}")
     notes: list[str] = []
-    subject_category = str(plan.get("subject_category", ""))
+    subject_category = _category(plan.get("subject_words"), plan.get("subject_category"))
     if not subject_category:
         raise PlanCompileError("the plan names no subject category")
     lines = [f"subject = get_objects_of_category(log_dir, category={subject_category!r})"]
@@ -107,7 +107,8 @@ def _relation_call(
     func = DSL_FUNCTIONS.get(name)
     if func is None:
         raise PlanCompileError(f"relation {name!r} is not a mining function")
-    subject_words, category = str(plan.get("subject_words", "")), str(plan.get("subject_category", ""))
+    subject_words = str(plan.get("subject_words", ""))
+    category = _category(subject_words, plan.get("subject_category"))
     other = _match_object(str(rel.get("other_words", "")), objects, subject_words, category)
     rel_words = str(rel.get("subject_words", ""))
     rel_subject = (
@@ -138,13 +139,18 @@ def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str
     """Define one object set per planned other object; its words (lower case) -> variable name."""
     objects: dict[str, str] = {}
     for index, obj in enumerate(plan.get("related", []), start=1):
-        category = str(obj.get("category", ""))
+        category = _category(obj.get("words"), obj.get("category"))
         if not category:
             raise PlanCompileError(f"other object {obj.get('words')!r} has no category")
         var = f"related_{index}"
         lines.append(f"{var} = get_objects_of_category(log_dir, category={category!r})")
         objects[str(obj.get("words", "")).strip().lower()] = var
     return objects
+
+
+def _category(words: Any, category: Any) -> str:
+    """The planned category, or EGO_VEHICLE when the words name the ego ("the ego vehicle" -> VEHICLE)."""
+    return "EGO_VEHICLE" if _EGO_WORDS.search(str(words or "")) else str(category or "")
 
 
 def _match_object(
