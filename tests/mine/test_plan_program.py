@@ -191,3 +191,57 @@ def test_words_that_name_the_ego_select_the_ego_whatever_category_was_planned() 
     assert compile_plan(ego).program.startswith(
         "subject = get_objects_of_category(log_dir, category='EGO_VEHICLE')"
     )
+
+
+def test_a_part_of_the_map_planned_as_an_object_becomes_its_condition() -> None:
+    plan = _plan(
+        "BUS",
+        related=[{"words": "bike lane", "category": "LARGE_VEHICLE"}],
+        relations=[{"subject_words": "buses", "function": "has_objects_in_relative_direction",
+                    "other_words": "bike lane", "direction": "left"}],
+    )  # fmt: skip
+    compiled = compile_plan(plan)
+    assert "LARGE_VEHICLE" not in compiled.program and "has_objects" not in compiled.program
+    assert "on_lane_type(subject, log_dir, lane_type='BIKE')" in compiled.program
+    assert compiled.notes == ("on_lane_type: 'bike lane' is a part of the map, tested as a condition",)
+    assert _referred(plan) == {idx(SCENE, "bus")}
+    sidewalk = _plan("PEDESTRIAN", related=[{"words": "the sidewalk", "category": "PEDESTRIAN"}])
+    with pytest.raises(PlanCompileError, match="'the sidewalk' is a part of the map"):
+        compile_plan(sidewalk)
+
+
+def test_a_relation_to_a_bare_direction_or_to_the_subject_itself_gives_its_direction_to_a_condition() -> None:
+    to_itself = _plan(
+        "VEHICLE",
+        relations=[{"subject_words": "vehicle", "function": "has_objects_in_relative_direction",
+                    "other_words": "vehicles", "direction": "left"}],
+        conditions=[_cond("changing_lanes")],
+    )  # fmt: skip
+    program = compile_plan(to_itself).program
+    assert "has_objects" not in program and "changing_lanes(subject, log_dir, direction='left')" in program
+    assert _referred(to_itself) == {idx(SCENE, "changer")}
+    to_a_word = _plan(
+        "VEHICLE",
+        relations=[{"subject_words": "vehicle", "function": "facing_toward", "other_words": "left"}],
+        conditions=[_cond("turning", "direction='left'")],
+    )
+    assert "facing_toward" not in compile_plan(to_a_word).program
+    nowhere = _plan(
+        "VEHICLE",
+        relations=[{"subject_words": "vehicle", "function": "facing_toward", "other_words": "left"}],
+    )
+    with pytest.raises(PlanCompileError, match="facing_toward: 'left' is not an object"):
+        compile_plan(nowhere)
+
+
+def test_state_words_of_the_subject_add_their_condition_and_vehicles_means_the_group() -> None:
+    plan = {
+        **_plan("REGULAR_VEHICLE", conditions=[_cond("in_drivable_area")]),
+        "subject_words": "parked vehicles",
+    }
+    program = compile_plan(plan).program
+    assert program.splitlines()[:3] == [
+        "subject = get_objects_of_category(log_dir, category='VEHICLE')",
+        "step_1 = stationary(subject, log_dir)",
+        "step_2 = in_drivable_area(step_1, log_dir)",
+    ]

@@ -12,6 +12,18 @@ turns such a plan into a program by fixed rules:
   crossing in front of the ego"), the relation is reversed (``reverse_relationship``);
 * the result goes to ``output_scenario``.
 
+Before that, the plan is normalised, because the small model often reads map context or a
+direction as an object (rules in :func:`_normalised`, each leaving a note):
+
+* a "related object" or relation target that is a part of the map ("a bike lane", "the
+  crosswalk", "an intersection") becomes the map condition that tests it (``on_lane_type``,
+  ``at_pedestrian_crossing``, ``on_intersection``, ``at_stop_sign``, ``on_road``);
+* a relation whose other object is a bare direction ("facing toward *left*") or the subject
+  itself ("vehicles ... *vehicles*") is a misreading: it is dropped when its direction is already
+  given to a condition or can be given to one that takes it (``turning``, ``changing_lanes``);
+* adjectives of the subject that name a state ("parked", "stopped") add its condition
+  (``stationary``), and "vehicle(s)" selects the VEHICLE group whatever member was planned.
+
 A plan the rules cannot use faithfully (a relation whose other object is not among the planned
 objects, a required setting missing, a value outside its choices) gives no program but a
 :class:`PlanCompileError` naming the part at fault, and the model writes the program instead.
@@ -29,7 +41,7 @@ from typing import Any
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/2"
+PLAN_PROGRAM_VERSION = "plan-program/3"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -37,6 +49,26 @@ _SETTING = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*[=:]\s*(.+?)\s*$")
 #: Relation functions whose result is their second object set (the related candidates).
 _RETURNS_RELATED = frozenset({"get_objects_in_relative_direction"})
 _SCENARIO_PARAMS = ("track_candidates", "related_candidates", "log_dir")
+#: Words that name a part of the map rather than an object.
+_MAP_WORDS = re.compile(
+    r"\b(lanes?|crosswalks?|crossings?|intersections?|junctions?|roads?|streets?|sidewalks?|"
+    r"drivable|stop signs?)\b",
+    re.IGNORECASE,
+)
+#: Map parts the rules turn into a condition: (words, function, argument).
+_MAP_CONDITIONS: tuple[tuple[re.Pattern[str], str, str | None], ...] = (
+    (re.compile(r"\b(bike|bicycle|cycle|cycling)\s+lanes?\b", re.I), "on_lane_type", "lane_type='BIKE'"),
+    (re.compile(r"\bbus\s+lanes?\b", re.I), "on_lane_type", "lane_type='BUS'"),
+    (re.compile(r"\b(crosswalks?|(pedestrian|zebra) crossings?)\b", re.I), "at_pedestrian_crossing", None),
+    (re.compile(r"\b(intersections?|junctions?)\b", re.I), "on_intersection", None),
+    (re.compile(r"\bstop signs?\b", re.I), "at_stop_sign", None),
+    (re.compile(r"\b(drivable area|roads?|streets?)\b", re.I), "on_road", None),
+)
+#: Adjectives of the subject that name a condition.
+_STATE_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"\b(parked|stopped|stationary|standing still)\b", re.I), "stationary"),
+)
+_DIRECTION_WORDS = frozenset({"left", "right", "forward", "backward", "front", "behind", "ahead", "back"})
 
 
 class PlanCompileError(ValueError):
@@ -67,6 +99,7 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     if "error" in plan:
         raise PlanCompileError(f"no plan: {plan['error']}")
     notes: list[str] = []
+    plan = _normalised(plan, notes)
     subject_category = _category(plan.get("subject_words"), plan.get("subject_category"))
     if not subject_category:
         raise PlanCompileError("the plan names no subject category")
@@ -91,6 +124,99 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
         current = f"step_{step}"
     lines.append(f"output_scenario({current}, description, log_dir, output_dir)")
     return CompiledPlan("\n".join(lines) + "\n", tuple(notes))
+
+
+def _normalised(plan: Mapping[str, Any], notes: list[str]) -> dict[str, Any]:
+    """``plan`` with map parts as conditions, misread relations dropped and state words applied.
+
+    Raises:
+        PlanCompileError: a map part no rule turns into a condition, or a misread relation whose
+            direction no condition can take.
+    """
+    subject_words = str(plan.get("subject_words", ""))
+    conditions = [dict(c) for c in plan.get("conditions", [])]
+    related, relations = [], []
+    for obj in plan.get("related", []):
+        words = str(obj.get("words", ""))
+        if _MAP_WORDS.search(words):
+            _add_map_condition(words, conditions, notes)
+        else:
+            related.append(obj)
+    for rel in plan.get("relations", []):
+        other = str(rel.get("other_words", ""))
+        if _MAP_WORDS.search(other):
+            _add_map_condition(other, conditions, notes)
+        elif _norm(other) in _DIRECTION_WORDS or _relates_subject_to_itself(rel, subject_words, plan):
+            _drop_misread_relation(rel, conditions, notes)
+        else:
+            relations.append(rel)
+    for pattern, function in _STATE_WORDS:
+        found = pattern.search(subject_words)
+        if found and all(c.get("function") != function for c in conditions):
+            conditions.insert(0, {"function": function, "negated": False, "argument": None})
+            notes.append(f"{function}: added for {found.group(0)!r}")
+    category = plan.get("subject_category")
+    if re.search(r"\bvehicles?$", _norm(subject_words)) and not _EGO_WORDS.search(subject_words):
+        if category != "VEHICLE":
+            notes.append(f"subject: VEHICLE (all vehicles) for {subject_words!r}, not {category}")
+        category = "VEHICLE"
+    return {
+        **plan,
+        "subject_category": category,
+        "related": related,
+        "relations": relations,
+        "conditions": conditions,
+    }
+
+
+def _relates_subject_to_itself(rel: Mapping[str, Any], subject_words: str, plan: Mapping[str, Any]) -> bool:
+    """Both sides of ``rel`` are the subject's own words (not "another ..." nor a planned object)."""
+    other, own = _norm(str(rel.get("other_words", ""))), _norm(str(rel.get("subject_words", "")))
+    subject = _norm(subject_words)
+    planned = {_norm(str(obj.get("words", ""))) for obj in plan.get("related", [])}
+    return (
+        other == subject
+        and own in ("", subject)
+        and other not in planned
+        and not _OTHER_WORDS.search(str(rel.get("other_words", "")))
+    )
+
+
+def _add_map_condition(words: str, conditions: list[dict[str, Any]], notes: list[str]) -> None:
+    """Append the condition that tests the map part ``words`` (once)."""
+    for pattern, function, argument in _MAP_CONDITIONS:
+        if pattern.search(words):
+            if not any(c.get("function") == function and c.get("argument") == argument for c in conditions):
+                conditions.append({"function": function, "negated": False, "argument": argument})
+                notes.append(f"{function}: {words!r} is a part of the map, tested as a condition")
+            return
+    raise PlanCompileError(f"{words!r} is a part of the map, not an object, and no rule tests it")
+
+
+def _drop_misread_relation(
+    rel: Mapping[str, Any], conditions: list[dict[str, Any]], notes: list[str]
+) -> None:
+    """Drop a relation to a bare direction or to the subject itself, keeping its direction.
+
+    Raises:
+        PlanCompileError: the relation names a direction that no condition already has or can take.
+    """
+    from scenariominer.mine.dsl._common import _DIRECTION_ALIASES, ARGUMENT_CHOICES
+
+    name, other = rel.get("function"), str(rel.get("other_words", ""))
+    word = str(rel.get("direction") or (other if _norm(other) in _DIRECTION_WORDS else "")).lower()
+    direction = _DIRECTION_ALIASES.get(word, word)
+    for cond in conditions:
+        accepts = ARGUMENT_CHOICES.get(str(cond.get("function")), {}).get("direction", ())
+        if direction and direction in accepts:
+            argument = str(cond.get("argument") or "")
+            if direction not in argument:
+                if "direction" in argument:
+                    continue  # another direction is already given: not this condition
+                cond["argument"] = ", ".join(a for a in (argument, f"direction={direction!r}") if a)
+            notes.append(f"{name}: {other!r} is not an object; its direction goes to {cond['function']}")
+            return
+    raise PlanCompileError(f"relation {name}: {other!r} is not an object the plan names")
 
 
 def _relation_call(
@@ -163,6 +289,8 @@ def _match_object(
     for obj_words, var in objects.items():
         if _norm(obj_words) == text:
             return var
+    if text == _norm(subject_words):
+        return "subject"
     for obj_words, var in objects.items():
         norm = _norm(obj_words)
         if norm and (f" {norm} " in f" {text} " or f" {text} " in f" {norm} "):
