@@ -40,7 +40,9 @@ def street() -> LogContext:
 def _synth(replies: list[str]) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
     selector = ExampleSelector(load_examples(), HashingEmbedder(128))
-    return ProgramSynthesizer(ChatClient(backend), selector, GenerationConfig(max_attempts=3)), backend
+    return ProgramSynthesizer(
+        ChatClient(backend), selector, GenerationConfig(plan=False, max_attempts=3)
+    ), backend
 
 
 def _cells(*cells: tuple[str, str, int]) -> frozenset[tuple[str, str, int]]:
@@ -83,7 +85,7 @@ def test_a_lone_or_disputed_result_is_flagged_for_review() -> None:
 def test_sampled_candidates_outvote_a_wrong_greedy_program(street: LogContext) -> None:
     # the greedy loop's program looks left; two of three samples look right, one does not run
     synth, backend = _synth([LEFT, RIGHT, BROKEN, RIGHT])
-    config = MiningConfig(generation=GenerationConfig(max_attempts=3))
+    config = MiningConfig(generation=GenerationConfig(plan=False, max_attempts=3))
     report = consensus_program(
         "vehicle with a bicycle to its right", synth, [street], samples=4, config=config, runner=trusted
     )
@@ -112,7 +114,7 @@ def test_mining_with_consensus_reports_its_confidence(street: LogContext) -> Non
     from scenariominer.mine.query import mine_logs
 
     synth, _ = _synth([LEFT, RIGHT, RIGHT])
-    config = MiningConfig(generation=GenerationConfig(max_attempts=3, consensus_samples=3))
+    config = MiningConfig(generation=GenerationConfig(plan=False, max_attempts=3, consensus_samples=3))
     report = mine_logs(
         "bikes to the right of vehicles", [street], config=config, synthesizer=synth, runner=trusted
     )

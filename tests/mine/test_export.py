@@ -291,9 +291,13 @@ def test_unknown_descriptions_go_through_the_model_loop(passing: LogContext) -> 
 
     def factory() -> ProgramSynthesizer:
         built.append(1)
-        return ProgramSynthesizer(ChatClient(backend), ExampleSelector(load_examples(), HashingEmbedder(64)))
+        return ProgramSynthesizer(
+            ChatClient(backend),
+            ExampleSelector(load_examples(), HashingEmbedder(64)),
+            GenerationConfig(plan=False),
+        )
 
-    cfg = MiningConfig(generation=GenerationConfig(max_attempts=3))
+    cfg = MiningConfig(generation=GenerationConfig(plan=False, max_attempts=3))
     report = mine_logs(
         "car with a bike on its right", [passing], config=cfg, synthesizer=factory, runner=trusted
     )
@@ -310,8 +314,8 @@ def test_unknown_descriptions_go_through_the_model_loop(passing: LogContext) -> 
 
 def test_manual_review_exports_empty_frames(passing: LogContext) -> None:
     backend = ScriptedBackend(["import os"])
-    synth = ProgramSynthesizer(ChatClient(backend), None, GenerationConfig(max_attempts=1))
-    cfg = MiningConfig(generation=GenerationConfig(max_attempts=1))
+    synth = ProgramSynthesizer(ChatClient(backend), None, GenerationConfig(plan=False, max_attempts=1))
+    cfg = MiningConfig(generation=GenerationConfig(plan=False, max_attempts=1))
     report = mine_logs("something odd", [passing], config=cfg, synthesizer=synth, runner=trusted)
     assert report.status is GenerationStatus.MANUAL_REVIEW and report.program is None and not report.matches
     sub = av2_submission(report, {"pass": passing.log})
@@ -428,7 +432,9 @@ def test_the_configured_synthesizer_uses_the_bank_files_and_the_generation_setti
     cfg = Config(
         llm=LLMConfig(backend="openai", cache=False),  # no request is made by building it
         embedding=EmbeddingConfig(backend="hashing", cache=False),
-        mining=MiningConfig(generation=GenerationConfig(few_shot_k=2, examples_files=(str(extra),))),
+        mining=MiningConfig(
+            generation=GenerationConfig(plan=False, few_shot_k=2, examples_files=(str(extra),))
+        ),
     )
     synth = make_synthesizer(cfg)
     assert synth.config.few_shot_k == 2 and synth.leave_one_out

@@ -53,11 +53,13 @@ def street() -> LogContext:
 def _synth(replies: list[str], k: int = 5) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
     selector = ExampleSelector(load_examples(), HashingEmbedder(128))
-    return ProgramSynthesizer(ChatClient(backend), selector, GenerationConfig(max_attempts=k)), backend
+    return ProgramSynthesizer(
+        ChatClient(backend), selector, GenerationConfig(plan=False, max_attempts=k)
+    ), backend
 
 
 def _config(k: int = 5) -> MiningConfig:
-    return MiningConfig(generation=GenerationConfig(max_attempts=k))
+    return MiningConfig(generation=GenerationConfig(plan=False, max_attempts=k))
 
 
 def test_errors_are_fed_back_until_a_valid_program_in_four_attempts(street: LogContext) -> None:
@@ -114,7 +116,7 @@ def test_a_repeated_failing_program_makes_the_next_request_sample(street: LogCon
     assert "You wrote this program before" not in backend.requests[1].messages[-1].content
     # retry_temperature = 0 keeps every request greedy
     synth, backend = _synth([RUNTIME_ERROR, RUNTIME_ERROR, VALID])
-    greedy = MiningConfig(generation=GenerationConfig(retry_temperature=0.0))
+    greedy = MiningConfig(generation=GenerationConfig(plan=False, retry_temperature=0.0))
     assert generate_program(DESCRIPTION, synth, [street], config=greedy, runner=trusted).ok
     assert all(r.params.temperature == 0.0 for r in backend.requests)
 
@@ -201,7 +203,9 @@ def test_the_embedded_model_writes_a_program_within_k_attempts(street: LogContex
         pytest.skip(f"embedded model not available: {exc}")
     k = 2
     synth = ProgramSynthesizer(
-        client, ExampleSelector(load_examples(), HashingEmbedder(256)), GenerationConfig(max_attempts=k)
+        client,
+        ExampleSelector(load_examples(), HashingEmbedder(256)),
+        GenerationConfig(plan=False, max_attempts=k),
     )
     report = generate_program("accelerating bus", synth, [street], config=_config(k), runner=trusted)
     client.close()

@@ -110,7 +110,7 @@ def test_synthesizer_prompts_with_examples_and_extracts_the_program() -> None:
     synth = ProgramSynthesizer(
         ChatClient(backend),
         ExampleSelector(BANK, HashingEmbedder(256)),
-        GenerationConfig(few_shot_k=2, max_tokens=123),
+        GenerationConfig(plan=False, few_shot_k=2, max_tokens=123),
     )
     messages = synth.first_messages("vehicle with a bicycle to its left")
     generation = synth.generate(messages)
@@ -125,6 +125,8 @@ def test_synthesizer_prompts_with_examples_and_extracts_the_program() -> None:
 
 
 def test_zero_shot_without_selector() -> None:
-    synth = ProgramSynthesizer(ChatClient(ScriptedBackend([])), None, GenerationConfig(few_shot_k=3))
+    synth = ProgramSynthesizer(
+        ChatClient(ScriptedBackend([])), None, GenerationConfig(plan=False, few_shot_k=3)
+    )
     assert synth.examples_for("anything") == []
     assert "Example programs" not in synth.first_messages("anything")[1].content
