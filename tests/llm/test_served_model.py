@@ -74,11 +74,17 @@ def test_analyze_and_mine_through_the_served_model(served: ServedModel, tmp_path
     chat_rows = [r for r in usage.report().rows if r.kind == "chat"]
     assert chat_rows and chat_rows[0].backend == "openai" and chat_rows[0].calls >= report.n_events
 
+    # the default generation: the served model reads the description into a plan (one
+    # schema-constrained call); the program is built from it, or written by the model
+    calls_before = sum(r.calls for r in usage.report().rows if r.kind == "chat")
     query = "pedestrian crossing in front of the ego vehicle"
     request = api.MineRequest(query, store=store, use_bank=False, force=True)
     result = api.mine(request, cfg, usage)
     mined = result.report
-    assert mined.source is ProgramSource.GENERATED and mined.attempts_used >= 1
+    assert mined.source is ProgramSource.GENERATED
+    assert sum(r.calls for r in usage.report().rows if r.kind == "chat") > calls_before
+    assert mined.generation is not None and mined.generation.plan is not None
+    assert "error" not in mined.generation.plan, mined.generation.plan
     assert mined.status is GenerationStatus.OK, mined.generation
     assert mined.program is not None and "output_scenario" in mined.program
     assert not mined.failures
