@@ -68,7 +68,6 @@ _MAP_CONDITIONS: tuple[tuple[re.Pattern[str], str, str | None], ...] = (
 _STATE_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(parked|stopped|stationary|standing still)\b", re.I), "stationary"),
 )
-_DIRECTION_WORDS = frozenset({"left", "right", "forward", "backward", "front", "behind", "ahead", "back"})
 
 
 class PlanCompileError(ValueError):
@@ -146,7 +145,7 @@ def _normalised(plan: Mapping[str, Any], notes: list[str]) -> dict[str, Any]:
         other = str(rel.get("other_words", ""))
         if _MAP_WORDS.search(other):
             _add_map_condition(other, conditions, notes)
-        elif _norm(other) in _DIRECTION_WORDS or _relates_subject_to_itself(rel, subject_words, plan):
+        elif _norm(other) in _direction_words() or _relates_subject_to_itself(rel, subject_words, plan):
             _drop_misread_relation(rel, conditions, notes)
         else:
             relations.append(rel)
@@ -167,6 +166,14 @@ def _normalised(plan: Mapping[str, Any], notes: list[str]) -> dict[str, Any]:
         "relations": relations,
         "conditions": conditions,
     }
+
+
+def _direction_words() -> frozenset[str]:
+    """The relative directions the predicates accept, and their aliases ("front", "behind")."""
+    from scenariominer.mine.dsl._common import _DIRECTION_ALIASES, ARGUMENT_CHOICES
+
+    relative = ARGUMENT_CHOICES["has_objects_in_relative_direction"]["direction"]
+    return frozenset({*(d for d in relative if d), *_DIRECTION_ALIASES})
 
 
 def _relates_subject_to_itself(rel: Mapping[str, Any], subject_words: str, plan: Mapping[str, Any]) -> bool:
@@ -204,7 +211,7 @@ def _drop_misread_relation(
     from scenariominer.mine.dsl._common import _DIRECTION_ALIASES, ARGUMENT_CHOICES
 
     name, other = rel.get("function"), str(rel.get("other_words", ""))
-    word = str(rel.get("direction") or (other if _norm(other) in _DIRECTION_WORDS else "")).lower()
+    word = str(rel.get("direction") or (other if _norm(other) in _direction_words() else "")).lower()
     direction = _DIRECTION_ALIASES.get(word, word)
     for cond in conditions:
         accepts = ARGUMENT_CHOICES.get(str(cond.get("function")), {}).get("direction", ())
@@ -298,8 +305,6 @@ def _match_object(
     if _OTHER_WORDS.search(text):
         # "a vehicle behind another vehicle": the other is another member of the subject's category
         return _same_category(subject_category)
-    if text == _norm(subject_words):
-        return "subject"
     if _EGO_WORDS.search(text):
         return _same_category("EGO_VEHICLE")
     if len(objects) == 1:
