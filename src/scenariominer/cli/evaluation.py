@@ -435,6 +435,14 @@ def nl2prog(
             "(default: mining.generation.plan_program).",
         ),
     ] = None,
+    plan_rules: Annotated[
+        bool | None,
+        typer.Option(
+            "--plan-rules/--no-plan-rules",
+            help="With --plan, read each description with the phrase rules first; the model "
+            "reads only those with a word the rules do not know (default: mining.generation.plan_rules).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
@@ -455,6 +463,8 @@ def nl2prog(
         gen = dataclasses.replace(gen, plan=plan)
     if plan_program is not None:
         gen = dataclasses.replace(gen, plan_program=plan_program)
+    if plan_rules is not None:
+        gen = dataclasses.replace(gen, plan_rules=plan_rules)
     cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()

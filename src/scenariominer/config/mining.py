@@ -113,6 +113,9 @@ class GenerationConfig:
         plan_program: with ``plan`` on, first try the program built from the plan by fixed rules
             (:mod:`scenariominer.mine.plan_program`); the model writes one only when the rules
             cannot express the plan or their program fails on the validation logs.
+        plan_rules: with ``plan`` on, first read the description with the phrase rules
+            (:mod:`scenariominer.mine.plan_reader`); the model reads it only when a word of it is
+            not one of the known phrases.
     """
 
     max_attempts: int = 5
@@ -129,6 +132,7 @@ class GenerationConfig:
     grammar: bool = False
     plan: bool = True
     plan_program: bool = True
+    plan_rules: bool = True
 
     def __post_init__(self) -> None:
         try:

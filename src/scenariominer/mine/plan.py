@@ -122,9 +122,12 @@ def extract_plan(client: ChatClient, description: str, *, max_tokens: int = 300)
 
 def plan_text(plan: dict[str, Any]) -> str:
     """The plan as the lines shown to the program writer and to the user."""
-    lines = [f"- subject: {plan['subject_words']} -> category {plan['subject_category']}"]
+    reader = " (read by the phrase rules)" if plan.get("read_by") == "rules" else ""
+    subject = _categories_text(plan["subject_category"])
+    lines = [f"- subject: {plan['subject_words']} -> category {subject}{reader}"]
     for obj in plan.get("related", []):
-        lines.append(f"- other objects: {obj['words']} -> category {obj['category']}")
+        own = "".join(f", {c['function']}({c.get('argument') or ''})" for c in obj.get("conditions", []))
+        lines.append(f"- other objects: {obj['words']} -> category {_categories_text(obj['category'])}{own}")
     for rel in plan.get("relations", []):
         settings = f", direction={rel['direction']!r}" if rel.get("direction") else ""
         settings += f", {rel['argument']}" if rel.get("argument") else ""
@@ -136,3 +139,8 @@ def plan_text(plan: dict[str, Any]) -> str:
     for num in plan.get("numbers", []):
         lines.append(f"- number stated: {num['value']:g} {num['unit']} ({num['meaning']})")
     return "\n".join(lines)
+
+
+def _categories_text(category: Any) -> str:
+    """One category, or the union of several (the phrase rules read "buses" as three)."""
+    return " or ".join(category) if isinstance(category, list) else str(category)

@@ -41,7 +41,7 @@ from typing import Any
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/3"
+PLAN_PROGRAM_VERSION = "plan-program/4"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -98,11 +98,12 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     if "error" in plan:
         raise PlanCompileError(f"no plan: {plan['error']}")
     notes: list[str] = []
-    plan = _normalised(plan, notes)
+    if plan.get("read_by") != "rules":  # the phrase rules' plans are normal already
+        plan = _normalised(plan, notes)
     subject_category = _category(plan.get("subject_words"), plan.get("subject_category"))
     if not subject_category:
         raise PlanCompileError("the plan names no subject category")
-    lines = [f"subject = get_objects_of_category(log_dir, category={subject_category!r})"]
+    lines = [f"subject = {_objects_of(subject_category)}"]
     current = "subject"
     step = 0
     for cond in plan.get("conditions", []):
@@ -269,25 +270,54 @@ def _relation_call(
 
 
 def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str]:
-    """Define one object set per planned other object; its words (lower case) -> variable name."""
+    """Define one object set per planned other object; its words (lower case) -> variable name.
+
+    An object's own conditions ("a *moving* vehicle", from the phrase rules) filter its set.
+    """
+    from scenariominer.mine.dsl import DSL_FUNCTIONS
+
     objects: dict[str, str] = {}
     for index, obj in enumerate(plan.get("related", []), start=1):
         category = _category(obj.get("words"), obj.get("category"))
         if not category:
             raise PlanCompileError(f"other object {obj.get('words')!r} has no category")
         var = f"related_{index}"
-        lines.append(f"{var} = get_objects_of_category(log_dir, category={category!r})")
+        lines.append(f"{var} = {_objects_of(category)}")
+        for cond in obj.get("conditions", []):
+            name = str(cond.get("function", ""))
+            func = DSL_FUNCTIONS.get(name)
+            if func is None:
+                raise PlanCompileError(f"condition {name!r} is not a mining function")
+            kwargs = _kwargs_text(_settings(name, func, cond.get("argument"), []))
+            call = f"scenario_not({name})" if cond.get("negated") else name
+            lines.append(f"{var} = {call}({var}, log_dir{kwargs})")
         objects[str(obj.get("words", "")).strip().lower()] = var
     return objects
 
 
-def _category(words: Any, category: Any) -> str:
-    """The planned category, or EGO_VEHICLE when the words name the ego ("the ego vehicle" -> VEHICLE)."""
-    return "EGO_VEHICLE" if _EGO_WORDS.search(str(words or "")) else str(category or "")
+def _category(words: Any, category: Any) -> str | list[str]:
+    """The planned category (or categories), or EGO_VEHICLE when the words name the ego.
+
+    ("the ego vehicle" is often planned as VEHICLE.)
+    """
+    if _EGO_WORDS.search(str(words or "")):
+        return "EGO_VEHICLE"
+    if isinstance(category, list | tuple):
+        return [str(c) for c in category if c]
+    return str(category or "")
+
+
+def _objects_of(category: str | list[str]) -> str:
+    """The expression of the objects of one category, or of the union of several."""
+    if isinstance(category, str):
+        return _same_category(category)
+    if len(category) == 1:
+        return _same_category(category[0])
+    return "scenario_or([" + ", ".join(_same_category(c) for c in category) + "])"
 
 
 def _match_object(
-    words: str, objects: Mapping[str, str], subject_words: str, subject_category: str
+    words: str, objects: Mapping[str, str], subject_words: str, subject_category: str | list[str]
 ) -> str | None:
     """The variable a relation's words refer to, or ``None`` when none fits."""
     text = _norm(words)
@@ -304,7 +334,7 @@ def _match_object(
             return var
     if _OTHER_WORDS.search(text):
         # "a vehicle behind another vehicle": the other is another member of the subject's category
-        return _same_category(subject_category)
+        return _objects_of(subject_category)
     if _EGO_WORDS.search(text):
         return _same_category("EGO_VEHICLE")
     if len(objects) == 1:

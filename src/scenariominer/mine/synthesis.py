@@ -28,6 +28,7 @@ from scenariominer.llm.embeddings import Embedder, Embeddings
 from scenariominer.llm.errors import StructuredOutputError
 from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.plan import extract_plan, plan_text
+from scenariominer.mine.plan_reader import read_plan
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
 from scenariominer.retrieval import rank
@@ -208,13 +209,18 @@ class ProgramSynthesizer:
         return self.selector.select(description, self.config.few_shot_k, leave_one_out=self.leave_one_out)
 
     def plan_for(self, description: str) -> dict[str, Any] | None:
-        """The description's plan (one model call, kept per description); ``None`` when planning is off.
+        """The description's plan (kept per description); ``None`` when planning is off.
 
-        A plan the model cannot produce in a valid form is recorded as ``{"error": ...}`` and
-        the program is written without it.
+        With ``plan_rules`` on, the phrase rules read it first (no model call); otherwise, or when
+        a word is not one of their phrases, one model call does. A plan the model cannot produce
+        in a valid form is recorded as ``{"error": ...}`` and the program is written without it.
         """
         if not self.config.plan:
             return None
+        if description not in self.plans and self.config.plan_rules:
+            read = read_plan(description)
+            if read is not None:
+                self.plans[description] = read
         if description not in self.plans:
             try:
                 self.plans[description] = extract_plan(self.client, description)

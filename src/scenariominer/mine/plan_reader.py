@@ -1,0 +1,413 @@
+"""Reading common descriptions into a plan by fixed phrase rules, before asking the model.
+
+Most scenario descriptions are built from a small stock of phrases: a road user ("vehicles",
+"the ego car", "cyclists"), a motion ("speeding up", "making a left turn", "standing still"), a
+place on the map ("in a bike lane", "near an intersection") and a relation to other road users
+("within 5 m of a stop sign", "behind the ego vehicle", "following another vehicle").
+:func:`read_plan` recognises those phrases and builds the same plan the model's plan step
+(:mod:`scenariominer.mine.plan`) would, so :func:`scenariominer.mine.plan_program.compile_plan`
+turns it into a program with no model call. It reads a description only when **every** word is
+accounted for (a phrase of the tables below, or a filler such as "that are"); any word it does not
+know makes it return ``None`` and the model reads the description instead. It never guesses.
+
+The tables map English phrasing to the predicates, with the settings the predicates' docstrings
+and the evaluation set's dev part use for each phrase (``scenariominer.eval.nl2prog``: written from
+the dev split only; the hold-out split scores it). Units are converted (km/h, mph to m/s).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["PLAN_READER_VERSION", "read_plan"]
+
+#: Version of the phrase tables; part of the program-cache key through the plan text.
+PLAN_READER_VERSION = "plan-reader/1"
+
+#: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
+_CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
+    (r"(?:the )?ego(?: vehicle| car)?|(?:the )?self[- ]driving (?:car|vehicle)", ("EGO_VEHICLE",)),
+    (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
+    (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
+    (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
+    (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
+    (r"scooter riders?|wheeled riders?", ("WHEELED_RIDER",)),
+    (r"(?:bi)?cyclists?|(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),
+    (r"motorcycles?|motorbikes?", ("MOTORCYCLE",)),
+    (r"school bus(?:es)?", ("SCHOOL_BUS",)),
+    (r"articulated bus(?:es)?|bendy bus(?:es)?", ("ARTICULATED_BUS",)),
+    (r"bus(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
+    (r"box trucks?", ("BOX_TRUCK",)),
+    (r"truck cabs?|semi[- ]trucks?|tractor units?", ("TRUCK_CAB",)),
+    (r"trucks?|lorr(?:y|ies)", ("TRUCK", "BOX_TRUCK", "TRUCK_CAB")),
+    (r"(?:large|big|heavy) vehicles?", ("LARGE_VEHICLE",)),
+    (r"(?:vehicular )?trailers?", ("VEHICULAR_TRAILER",)),
+    (r"trams?|streetcars?|trains?|trolleys?|railed vehicles?", ("RAILED_VEHICLE",)),
+    (r"cars?|sedans?|suvs?|vans?|pickups?|passenger vehicles?|regular vehicles?", ("REGULAR_VEHICLE",)),
+    (r"(?:motor )?vehicles?|traffic", ("VEHICLE",)),
+    (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
+    (r"wheelchairs?", ("WHEELCHAIR",)),
+    (r"strollers?|prams?|pushchairs?", ("STROLLER",)),
+    (r"pedestrians?|people|persons?|someone|somebody|peds?|walkers?", ("PEDESTRIAN",)),
+    (r"dogs?", ("DOG",)),
+    (r"animals?", ("ANIMAL", "DOG")),
+    (r"bollards?", ("BOLLARD",)),
+    (r"(?:traffic |construction )?cones?", ("CONSTRUCTION_CONE",)),
+    (r"(?:construction )?barrels?", ("CONSTRUCTION_BARREL",)),
+    (r"stop signs?", ("STOP_SIGN",)),
+    (r"signs?", ("SIGN",)),
+    (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
+    (r"objects?|things?|anything|everything|road users?|actors?|agents?", ("ANY",)),
+)
+
+#: A speed condition for "moving" and for the riding/walking verbs (the predicate's default).
+_MOVING = ("has_velocity", "min_velocity=0.5")
+_STOPPED = ("has_velocity", "min_velocity=0, max_velocity=0.5")
+
+#: Adjectives before a road user: (pattern, condition function, argument).
+_MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
+    (r"moving", *_MOVING),
+    (r"parked|stationary", "stationary", None),
+    (r"stopped|halted", *_STOPPED),
+    (r"fast|speeding|fast-moving", "has_velocity", "min_velocity=10"),
+    (r"turning", "turning", None),
+    (r"accelerating", "accelerating", "min_accel=1.0"),
+    (r"braking|decelerating", "accelerating", "min_accel=-inf, max_accel=-1.0"),
+)
+
+_WORD_NUMBERS = {
+    "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6", "seven": "7",
+    "eight": "8", "nine": "9", "ten": "10", "twenty": "20", "thirty": "30", "fifty": "50",
+}  # fmt: skip
+_TO_MPS = {"m/s": 1.0, "mps": 1.0, "km/h": 1 / 3.6, "kph": 1 / 3.6, "kmh": 1 / 3.6, "mph": 0.44704}
+#: Words that carry no condition of their own.
+_FILLERS = frozenset(
+    {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
+    | {"while", "also", "currently", "there", "driving", "standing"}
+)
+
+
+@dataclass
+class _Reading:
+    """The plan being assembled while phrases are consumed."""
+
+    subject_words: str = ""
+    subject: tuple[str, ...] = ()
+    conditions: list[dict[str, Any]] = field(default_factory=list)
+    related: list[dict[str, Any]] = field(default_factory=list)
+    relations: list[dict[str, Any]] = field(default_factory=list)
+    numbers: list[dict[str, Any]] = field(default_factory=list)
+
+    def condition(self, function: str, argument: str | None = None, *, negated: bool = False) -> None:
+        self.conditions.append({"function": function, "negated": negated, "argument": argument})
+
+    def relate(
+        self,
+        function: str,
+        other: str,
+        *,
+        direction: str | None = None,
+        argument: str | None = None,
+        reverse: bool = False,
+    ) -> None:
+        """A relation of the subject to the road users ``other`` (read by :func:`_object`)."""
+        words = self._object(other)
+        subject_words, other_words = (words, self.subject_words) if reverse else (self.subject_words, words)
+        self.relations.append(
+            {
+                "subject_words": subject_words,
+                "function": function,
+                "other_words": other_words,
+                "direction": direction,
+                "argument": argument,
+            }
+        )
+
+    def _object(self, phrase: str) -> str:
+        """Register the road users of ``phrase`` ("a moving vehicle") as a related object; its words."""
+        found = _NOUN_PHRASE.fullmatch(phrase.strip())
+        if found is None:
+            raise _Unread(phrase)
+        categories = _categories(found.group("noun"))
+        if categories == ("EGO_VEHICLE",) and not found.group("mods"):
+            words = "ego vehicle"
+        else:
+            words = " ".join(phrase.split())
+        if all(obj["words"] != words for obj in self.related):
+            own = _modifier_conditions(found.group("mods"))
+            conditions = [{"function": f, "negated": False, "argument": a} for f, a in own]
+            category = _one_or_many(categories)
+            self.related.append({"words": words, "category": category, "conditions": conditions})
+        return words
+
+
+class _Unread(ValueError):
+    """A phrase the tables do not cover: the description goes to the model."""
+
+
+def _alternation(patterns: Any) -> str:
+    return "|".join(f"(?:{p})" for p in patterns)
+
+
+_CATEGORY_RE = _alternation(p for p, _ in _CATEGORY_PHRASES)
+_MODIFIER_RE = _alternation(p for p, _, _ in _MODIFIERS)
+_DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their)\s+)"
+_NOUN = rf"(?:{_CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{_CATEGORY_RE}))?"
+_NOUN_PHRASE = re.compile(rf"{_DETERMINER}*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})")
+_NP = rf"(?:(?:{_DETERMINER}*)(?:(?:{_MODIFIER_RE})\s+)*(?:{_NOUN}))"
+
+
+def _categories(noun: str) -> tuple[str, ...]:
+    """The categories of a road-user noun, with "X or (other) Y" as the union of both."""
+    found: list[str] = []
+    for part in re.split(r"\s+(?:or|and)\s+(?:other\s+)?", noun.strip()):
+        for pattern, categories in _CATEGORY_PHRASES:
+            if re.fullmatch(pattern, part):
+                found.extend(c for c in categories if c not in found)
+                break
+        else:
+            raise _Unread(part)
+    return tuple(found)
+
+
+def _one_or_many(categories: tuple[str, ...]) -> str | list[str]:
+    return categories[0] if len(categories) == 1 else list(categories)
+
+
+def _modifier_conditions(mods: str | None) -> list[tuple[str, str | None]]:
+    out: list[tuple[str, str | None]] = []
+    for word in re.findall(_MODIFIER_RE, mods or ""):
+        for pattern, function, argument in _MODIFIERS:
+            if re.fullmatch(pattern, word):
+                out.append((function, argument))
+                break
+    return out
+
+
+def _speed_mps(value: str, unit: str | None) -> float:
+    return round(float(value) * _TO_MPS.get((unit or "m/s").replace(" ", ""), 1.0), 2)
+
+
+@dataclass(frozen=True)
+class _Phrase:
+    """One phrase after the subject and what it means.
+
+    ``{obj}`` in the pattern stands for the other road users (the phrase is then a relation to
+    them); ``{name}`` in ``argument``/``direction`` is filled from the pattern's named group
+    (``{speed}`` from ``value`` and ``unit``, in m/s); a ``neg`` group negates a condition.
+    """
+
+    pattern: str
+    function: str | None  # None: the phrase carries no condition ("in traffic")
+    argument: str | None = None
+    direction: str | None = None
+    reverse: bool = False  # the other road users do it to the subject ("crossing in front of X")
+    to_subject: bool = False  # a relation among the subject's own members ("close together")
+
+
+_NUMBER = r"\d+(?:\.\d+)?"
+_DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
+_SPEED = rf"(?:(?:moving|going|driving|travell?ing) )?(?P<value>{_NUMBER}) ?(?P<unit>m/s|mps|km/h|kph|mph)?"
+_HAVE = r"(?:that have|that has|having|with)"
+_CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing)s?"
+_INTERSECTION = r"(?:an |the |a )?(?:intersection|junction)s?"
+_NOT = r"(?P<neg>not |without )?"
+_NEAR = r"(?:near|close to|approaching|next to|by)"
+_IN_LANE = r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along)) (?:a |the )?"
+_ON_X = "on_intersection"
+_SPEEDING_UP = ("accelerating", "min_accel=1.0")
+_TURNING = ("turning", "direction='{dir}'")
+_BESIDE = "within_distance=5, lateral_thresh=2"
+_ALONG = "within_distance=25, lateral_thresh=1"
+
+#: Phrases after the subject, tried in this order; each match is consumed.
+_PHRASES: tuple[_Phrase, ...] = (
+    # stated numbers first, so "within 5 m of X" is not read as a bare relation
+    _Phrase(
+        r"surrounded by (?P<count>\d+) or more {obj} within " + _DIST,
+        "near_objects", "distance_thresh={dist}, min_objects={count}",
+    ),
+    _Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
+    _Phrase(r"(?:faster than|above|over|at more than) " + _SPEED, "has_velocity", "min_velocity={speed}"),
+    _Phrase(
+        r"(?:slower than|below|under|at less than) " + _SPEED,
+        "has_velocity", "min_velocity=0, max_velocity={speed}",
+    ),
+    # relations to other road users
+    _Phrase(
+        r"(?:crossing|walking across|running across)(?: the road| the street)? in front of {obj}",
+        "being_crossed_by", direction="forward", reverse=True,
+    ),
+    _Phrase(
+        r"(?:with|having) {obj} (?:walking |running |cycling )?(?:crossing|across) in front of (?:them|it)",
+        "being_crossed_by", direction="forward",
+    ),
+    _Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
+    _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?behind) {obj} in the same lane", "following"),
+    _Phrase(r"(?:following|tailgating|driving behind) {obj}", "following"),
+    _Phrase(r"(?:in the same lane as|sharing (?:a|the) lane with) {obj}", "in_same_lane"),
+    _Phrase(
+        r"(?:approaching|closing in on|(?:heading|moving|driving|going|walking) towards?) {obj}",
+        "heading_toward", "max_distance=30",
+    ),
+    _Phrase(
+        r"(?:facing|looking (?:towards?|at)|turned towards?) {obj}",
+        "facing_toward", "within_angle=30, max_distance=20",
+    ),
+    _Phrase(
+        r"on the (?:other|opposite) side of the road(?: from| to| than)? {obj}",
+        "on_relative_side_of_road", "side='opposite'",
+    ),
+    _Phrase(r"on the same side of the road as {obj}", "on_relative_side_of_road", "side='same'"),
+    _Phrase(
+        r"(?:travell?ing|heading|driving|moving|going) in the (?P<dir>same|opposite) direction"
+        r" (?:as|to) {obj}",
+        "heading_in_relative_direction_to", direction="{dir}",
+    ),
+    _Phrase(
+        _HAVE + r" {obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
+        "has_objects_in_relative_direction", _BESIDE, "{dir}",
+    ),
+    _Phrase(_HAVE + r" {obj} behind (?:them|it)", "has_objects_in_relative_direction", _ALONG, "backward"),
+    _Phrase(
+        _HAVE + r" {obj} (?:in front of|ahead of) (?:them|it)",
+        "has_objects_in_relative_direction", _ALONG, "forward",
+    ),
+    _Phrase(
+        r"(?:towing|pulling) {obj}",
+        "has_objects_in_relative_direction", "within_distance=2, lateral_thresh=0.5", "backward",
+    ),
+    _Phrase(r"(?:behind|in back of) {obj}", "get_objects_in_relative_direction", _ALONG, "backward"),
+    _Phrase(r"(?:ahead of|in front of) {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
+    _Phrase(
+        r"(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
+        "get_objects_in_relative_direction", "within_distance=10", "{dir}",
+    ),
+    _Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
+    _Phrase(
+        r"(?:walking |moving |standing |riding )?(?:close together|side by side|in a group|together)",
+        "near_objects", "distance_thresh=2", to_subject=True,
+    ),
+    _Phrase(r"(?:going past|driving past|passing by) {obj}", "near_objects", "distance_thresh=20"),
+    # places on the map (before the bare "near X", which would read "an intersection" as a road user)
+    _Phrase(
+        _IN_LANE + r"(?:bike|bicycle|cycle) lanes?",
+        "on_lane_type", "lane_type='BIKE'",
+    ),
+    _Phrase(_IN_LANE + r"bus lanes?", "on_lane_type", "lane_type='BUS'"),
+    _Phrase(_IN_LANE + r"(?:vehicle|car|traffic|driving) lanes?", "on_lane_type", "lane_type='VEHICLE'"),
+    _Phrase(_NEAR + " " + _INTERSECTION, "near_intersection", "threshold=15"),
+    _Phrase(r"(?P<neg>(?:but )?(?:outside|not in|not inside))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X),
+    _Phrase(r"(?:in|inside|within|at|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
+    _Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
+    _Phrase(r"(?P<neg>away from|not at|not on|outside(?: of)?) " + _CROSSWALK, "at_pedestrian_crossing"),
+    _Phrase(r"(?:on|in|inside|within) " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=0"),
+    _Phrase(r"(?:at|using) " + _CROSSWALK, "at_pedestrian_crossing"),
+    _Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
+    _Phrase(r"(?:on|in|within|inside) the drivable area", "in_drivable_area"),
+    _Phrase(r"(?P<neg>off the road|not on the road|outside the drivable area)", "on_road"),
+    _Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
+    _Phrase(r"(?:on|in) the (?:road|street|roadway|carriageway)", "on_road"),
+    _Phrase(r"in traffic", None),
+    # bare relations (after the map phrases)
+    _Phrase(r"(?:near|next to|beside|alongside|nearby|around) {obj}", "near_objects", "distance_thresh=10"),
+    _Phrase(r"close to {obj}", "near_objects", "distance_thresh=5"),
+    # motions of the subject
+    _Phrase(
+        r"(?:slamming on the brakes|braking hard|hard braking|emergency braking|stopping suddenly"
+        r"|decelerating hard)",
+        "accelerating", "min_accel=-inf, max_accel=-3.0",
+    ),
+    _Phrase(_NOT + r"(?:speeding up|accelerating|picking up speed|gaining speed)", *_SPEEDING_UP),
+    _Phrase(
+        _NOT + r"(?:slowing down|slowing|decelerating|braking|losing speed)",
+        "accelerating", "min_accel=-inf, max_accel=-1.0",
+    ),
+    _Phrase(r"(?:making|taking|doing|performing) an? (?P<dir>left|right)(?: turn| hand turn)?", *_TURNING),
+    _Phrase(r"turning (?:to the )?(?P<dir>left|right)", *_TURNING),
+    _Phrase(_NOT + r"(?:making a turn|turning)", "turning"),
+    _Phrase(
+        r"(?:changing lanes?|switching lanes?|moving over|merging) (?:in)?to the (?P<dir>left|right)",
+        "changing_lanes", "direction='{dir}'",
+    ),
+    _Phrase(
+        r"(?:changing lanes?|switching lanes?|moving over|merging) into the lane"
+        r" (?:on |to )(?:their |its |the )(?P<dir>left|right)",
+        "changing_lanes", "direction='{dir}'",
+    ),
+    _Phrase(
+        _NOT + r"(?:changing lanes?|switching lanes?|lane changing"
+        r"|(?:performing|making|doing) a lane change)",
+        "changing_lanes",
+    ),
+    _Phrase(r"(?:waiting )?(?:standing still|at a standstill|not moving|at rest|stopped|halted)", *_STOPPED),
+    _Phrase(r"parked", "stationary"),
+    _Phrase(r"(?:at (?:a )?high speed|quickly)", "has_velocity", "min_velocity=10"),
+    _Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running)", *_MOVING),
+)  # fmt: skip
+_COMPILED = tuple(
+    (re.compile(r"(?<![\w-])" + p.pattern.replace("{obj}", f"(?P<obj>{_NP})") + r"(?![\w-])"), p)
+    for p in _PHRASES
+)
+_SUBJECT = re.compile(
+    rf"^\s*(?:(?:all|the|a|an|any|some|every)\s+)*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})(?![\w-])"
+)
+
+
+def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
+    """Add what one matched phrase means to the plan being read."""
+    if phrase.function is None:
+        return
+    groups = {k: v for k, v in found.groupdict().items() if v is not None}
+    if "value" in groups:
+        groups["speed"] = str(_speed_mps(groups["value"], groups.get("unit")))
+    argument = phrase.argument.format(**groups) if phrase.argument else None
+    if "obj" in groups or phrase.to_subject:
+        direction = phrase.direction.format(**groups) if phrase.direction else None
+        other = groups.get("obj", reading.subject_words)
+        reading.relate(phrase.function, other, direction=direction, argument=argument, reverse=phrase.reverse)
+    else:
+        reading.condition(phrase.function, argument, negated="neg" in groups)
+
+
+def read_plan(description: str) -> dict[str, Any] | None:
+    """The plan of ``description`` when every word of it is one of the known phrases, else ``None``.
+
+    The plan has the fields of :func:`scenariominer.mine.plan.plan_model` plus ``read_by =
+    "rules"``; a category may be a list (the union of several, "buses"), and a related object may
+    carry its own conditions ("a *moving* vehicle"), which the model's plans never do.
+    """
+    text = _normalised_text(description)
+    subject = _SUBJECT.match(text)
+    if subject is None:
+        return None
+    try:
+        reading = _Reading(subject_words=subject.group("noun"), subject=_categories(subject.group("noun")))
+        for function, argument in _modifier_conditions(subject.group("mods")):
+            reading.condition(function, argument)
+        rest = " " + text[subject.end() :] + " "
+        for pattern, phrase in _COMPILED:
+            while (found := pattern.search(rest)) is not None:
+                _apply(phrase, reading, found)
+                rest = rest[: found.start()] + " , " + rest[found.end() :]
+    except _Unread:
+        return None
+    if any(word not in _FILLERS for word in re.findall(r"[\w'/.-]+", rest)):
+        return None
+    return {
+        "subject_words": reading.subject_words,
+        "subject_category": _one_or_many(reading.subject),
+        "related": reading.related,
+        "relations": reading.relations,
+        "conditions": reading.conditions,
+        "numbers": [],
+        "read_by": "rules",
+    }
+
+
+def _normalised_text(description: str) -> str:
+    """Lower case, single spaces, no final full stop, number words as digits ("three" -> "3")."""
+    text = " ".join(description.lower().replace(",", " ").split()).rstrip(".!")
+    return re.sub(r"\b(" + "|".join(_WORD_NUMBERS) + r")\b", lambda m: _WORD_NUMBERS[m.group(1)], text)
