@@ -57,7 +57,7 @@ def _synth(
 ) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
     selector = ExampleSelector(load_examples(), HashingEmbedder(128))
-    config = GenerationConfig(max_attempts=2, plan=plan, plan_program=plan_program)
+    config = GenerationConfig(max_attempts=2, plan=plan, plan_program=plan_program, plan_rules=False)
     return ProgramSynthesizer(ChatClient(backend), selector, config), backend
 
 

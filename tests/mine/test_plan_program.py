@@ -111,7 +111,7 @@ def _trusted(program: str, context, description: str) -> ProgramResult:  # type:
 
 def _synth(replies: list[str]) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
-    config = GenerationConfig(max_attempts=2, plan=True, plan_program=True)
+    config = GenerationConfig(max_attempts=2, plan=True, plan_program=True, plan_rules=False)
     selector = ExampleSelector(load_examples(), HashingEmbedder(128))
     return ProgramSynthesizer(ChatClient(backend), selector, config), backend
 

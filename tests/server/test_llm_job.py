@@ -23,7 +23,8 @@ def test_mine_job_with_the_embedded_model(servers: Any, built_store: Any, tmp_pa
 
 
 def _run(client: httpx.Client) -> None:
-    body = {"description": "a pedestrian near the ego vehicle", "use_bank": False}
+    # "lingering" is no phrase the rules know: the model reads the description and writes the program
+    body = {"description": "a pedestrian lingering near the ego vehicle", "use_bank": False}
     job = client.post("/api/jobs/mine", json=body).json()
     final: dict[str, Any] = {}
     with client.stream("GET", f"/api/jobs/{job['id']}/events", timeout=1800) as resp:

@@ -209,7 +209,8 @@ class _Phrase:
 
 _NUMBER = r"\d+(?:\.\d+)?"
 _DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
-_SPEED = rf"(?:(?:moving|going|driving|travell?ing) )?(?P<value>{_NUMBER}) ?(?P<unit>m/s|mps|km/h|kph|mph)?"
+_SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>m/s|mps|km/h|kph|mph)?"
+_GOING = r"(?:(?:moving|going|driving|travell?ing) )?"
 _HAVE = r"(?:that have|that has|having|with)"
 _CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing)s?"
 _INTERSECTION = r"(?:an |the |a )?(?:intersection|junction)s?"
@@ -230,9 +231,11 @@ _PHRASES: tuple[_Phrase, ...] = (
         "near_objects", "distance_thresh={dist}, min_objects={count}",
     ),
     _Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
-    _Phrase(r"(?:faster than|above|over|at more than) " + _SPEED, "has_velocity", "min_velocity={speed}"),
     _Phrase(
-        r"(?:slower than|below|under|at less than) " + _SPEED,
+        _GOING + r"(?:faster than|above|over|at more than) " + _SPEED, "has_velocity", "min_velocity={speed}"
+    ),
+    _Phrase(
+        _GOING + r"(?:slower than|below|under|at less than) " + _SPEED,
         "has_velocity", "min_velocity=0, max_velocity={speed}",
     ),
     # relations to other road users
@@ -307,7 +310,8 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(r"(?:at|using) " + _CROSSWALK, "at_pedestrian_crossing"),
     _Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
     _Phrase(r"(?:on|in|within|inside) the drivable area", "in_drivable_area"),
-    _Phrase(r"(?P<neg>off the road|not on the road|outside the drivable area)", "on_road"),
+    _Phrase(r"(?P<neg>off the road|not on the road)", "on_road"),
+    _Phrase(r"(?P<neg>outside|off|not (?:on|in)) the drivable area", "in_drivable_area"),
     _Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
     _Phrase(r"(?:on|in) the (?:road|street|roadway|carriageway)", "on_road"),
     _Phrase(r"in traffic", None),

@@ -1,0 +1,139 @@
+"""Descriptions read into plans by phrase rules (mine/plan_reader.py), end to end on the street scene."""
+
+from __future__ import annotations
+
+import pytest
+from mining_scenes import idx, street_scene
+
+from scenariominer.config.mining import GenerationConfig, MiningConfig
+from scenariominer.llm.client import ChatClient
+from scenariominer.llm.embeddings import HashingEmbedder
+from scenariominer.mine.loop import generate_program
+from scenariominer.mine.plan import plan_text
+from scenariominer.mine.plan_program import compile_plan
+from scenariominer.mine.plan_reader import read_plan
+from scenariominer.mine.programs import load_examples
+from scenariominer.mine.sandbox import ProgramResult, run_trusted_program
+from scenariominer.mine.synthesis import ExampleSelector, ProgramSynthesizer
+from scenariominer.testing import ScriptedBackend
+
+SCENE = street_scene()
+
+
+def _program(description: str) -> str:
+    plan = read_plan(description)
+    assert plan is not None, f"the rules should read {description!r}"
+    assert plan["read_by"] == "rules"
+    return compile_plan(plan).program
+
+
+def _referred(description: str) -> set[str]:
+    result = run_trusted_program(_program(description), SCENE, description=description)
+    assert result.ok, result.error
+    assert result.scenario is not None
+    names = {idx(SCENE, name): name for name in SCENE.log.track_ids}
+    return {names[int(i)] for i in result.scenario.referred_tracks}
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # the scene's tracks are written in closed form (tests/mine/mining_scenes.py)
+        ("vehicles changing lanes to the left", {"changer"}),
+        ("parked cars", {"parked"}),
+        ("vehicles turning right", {"turner"}),
+        ("vehicles inside an intersection", {"turner"}),
+        ("cyclists in a bike lane", {"bike"}),
+        ("the ego vehicle following another vehicle", {"ego"}),
+        ("pedestrians crossing in front of a vehicle", {"ped"}),
+        ("pedestrians on a crosswalk", {"ped"}),
+        ("people within five metres of a stop sign", {"ped"}),  # 4 m from the sign at t = 0
+        ("vehicles behind the ego vehicle", {"changer"}),  # 20 m behind in its lane
+        ("vehicles with a bike on their right side", {"ego"}),  # the bike rides 3.6 m to its right
+        ("vehicles in the same lane as the ego car", {"lead", "changer"}),
+        ("vehicles on the other side of the road from the ego", {"oncoming", "parked"}),
+    ],
+)
+def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
+    assert _referred(description) == expected
+
+
+@pytest.mark.parametrize(
+    "description",
+    [
+        "vehicles swerving sideways",  # "swerving" is no known phrase
+        "a bus overtaking a truck",
+        "vehicles in the wrong lane",  # "in the ... lane" is known, "wrong" is not
+        "pedestrians squeezing between parked vehicles",
+        "oncoming traffic",
+    ],
+)
+def test_a_description_with_any_unknown_word_is_left_to_the_model(description: str) -> None:
+    assert read_plan(description) is None
+
+
+def test_stated_numbers_are_read_with_their_units() -> None:
+    assert "has_velocity(subject, log_dir, min_velocity=10.0)" in _program(
+        "vehicles going faster than 36 km/h"
+    )
+    assert "min_velocity=15.0" in _program("vehicles going faster than 15 m/s")
+    assert "max_velocity=4.47" in _program("cars travelling slower than 10 mph")
+    program = _program("vehicles surrounded by three or more people within 5 meters")
+    assert "near_objects(subject, related_1, log_dir, distance_thresh=5, min_objects=3)" in program
+
+
+def test_negated_places_and_motions_are_wrapped_in_scenario_not() -> None:
+    assert "scenario_not(in_drivable_area)(subject, log_dir)" in _program(
+        "vehicles driving outside the drivable area"
+    )
+    assert "scenario_not(on_road)(subject, log_dir)" in _program("motorbikes parked off the road")
+    program = _program("moving vehicles close to an intersection but outside it")
+    assert "scenario_not(on_intersection)" in program and "near_intersection" in program
+
+
+def test_a_noun_of_several_categories_is_their_union_and_an_adjective_filters_the_other_objects() -> None:
+    program = _program("buses in a bike lane")
+    assert "scenario_or([get_objects_of_category(log_dir, category='BUS'), " in program
+    assert "category='SCHOOL_BUS')])" in program
+    assert read_plan("dogs or other animals on the road")["subject_category"] == ["DOG", "ANIMAL"]  # type: ignore[index]
+    program = _program("vulnerable road users close to a moving vehicle")
+    assert "related_1 = has_velocity(related_1, log_dir, min_velocity=0.5)" in program
+    plan = read_plan("vulnerable road users close to a moving vehicle")
+    assert plan is not None and "(read by the phrase rules)" in plan_text(plan)
+
+
+def _trusted(program: str, context, description: str) -> ProgramResult:  # type: ignore[no-untyped-def]
+    return run_trusted_program(program, context, description=description)
+
+
+def _synth(replies: list[str], *, plan_rules: bool = True) -> tuple[ProgramSynthesizer, ScriptedBackend]:
+    backend = ScriptedBackend(replies)
+    config = GenerationConfig(max_attempts=1, plan=True, plan_program=True, plan_rules=plan_rules)
+    selector = ExampleSelector(load_examples(), HashingEmbedder(128))
+    return ProgramSynthesizer(ChatClient(backend), selector, config), backend
+
+
+def test_the_loop_builds_the_program_of_a_read_description_without_any_model_call() -> None:
+    synth, backend = _synth([])
+    report = generate_program(
+        "vehicles changing lanes to the left", synth, [SCENE], config=MiningConfig(), runner=_trusted
+    )
+    assert report.ok and backend.requests == []
+    assert report.plan is not None and report.plan["read_by"] == "rules"
+    assert [a.index for a in report.attempts] == [0]
+
+
+def test_with_the_rules_off_or_an_unknown_word_the_model_reads_the_description() -> None:
+    plan = '{"subject_words": "vehicles", "subject_category": "VEHICLE", "conditions": []}'
+    program = (
+        "```python\nv = get_objects_of_category(log_dir, category='VEHICLE')\n"
+        "output_scenario(v, description, log_dir, output_dir)\n```"
+    )
+    for description, rules in (
+        ("vehicles changing lanes to the left", False),
+        ("vehicles swerving sideways", True),
+    ):
+        synth, backend = _synth([plan, program], plan_rules=rules)
+        report = generate_program(description, synth, [SCENE], config=MiningConfig(), runner=_trusted)
+        assert len(backend.requests) >= 1  # the plan call
+        assert report.plan is not None and "read_by" not in report.plan
