@@ -195,6 +195,20 @@ def _write_doc(tmp_path: Path, doc: object) -> Path:
             lambda d: d["drivable_areas"]["6"]["area_boundary"][0].update(x=None),
             "drivable area 6 has non-finite coordinates",
         ),
+        # each of these passes the JSON layer but fails one record (the quick check must see it too)
+        (
+            lambda d: d["lane_segments"]["1"].update(successors=["north"]),
+            "lane segment 1 has a malformed field",
+        ),
+        (
+            lambda d: d["lane_segments"]["2"].update(left_neighbor_id="left"),
+            "lane segment 2 has a malformed field",
+        ),
+        (
+            lambda d: d["lane_segments"]["2"]["left_lane_boundary"][1].update(y="nan"),
+            "lane segment 2 left_lane_boundary has non-finite coordinates",
+        ),
+        (lambda d: d["pedestrian_crossings"]["5"].update(edge2="none"), "edge2 is not a list of points"),
     ],
 )
 def test_malformed_maps_raise_format_errors_naming_the_record(

@@ -224,9 +224,11 @@ class Log:
     def to_arrow(self) -> pa.Table:
         """Long table with one row per valid (track, timestamp) cell; see :func:`Log.from_arrow`."""
         rows, cols = np.nonzero(self.valid)
+        # one Arrow string per track, gathered per row in Arrow (encoding every row's text costs more)
+        row_index = pa.array(rows)
         data: dict[str, Any] = {
-            "track_id": pa.array(self.track_ids[rows].astype(str)),
-            "category": pa.array(self.categories[rows].astype(str)),
+            "track_id": pa.array(self.track_ids.tolist(), type=pa.string()).take(row_index),
+            "category": pa.array(self.categories.tolist(), type=pa.string()).take(row_index),
             "timestamp_ns": pa.array(self.timestamps_ns[cols], type=pa.int64()),
             "is_ego": pa.array(rows == self.ego_index),
         }

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 import pyarrow as pa
+import pyarrow.compute as pc
 import pyarrow.feather as feather
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation, Slerp
@@ -192,10 +193,14 @@ def _floats(table: pa.Table, *names: str) -> FloatArray:
 
 
 def _strings(table: pa.Table, name: str) -> NDArray[np.str_]:
+    """A text column as a numpy array, each distinct text converted once (a log repeats its ids)."""
     col = table.column(name)
     if pa.types.is_dictionary(col.type):
-        col = col.cast(pa.string())
-    return np.asarray(col.to_pylist(), dtype=str)
+        col = col.cast(pa.string())  # chunks may hold different dictionaries
+    encoded = pc.dictionary_encode(col.combine_chunks())  # nulls were refused by _read_table
+    names = np.asarray(encoded.dictionary.to_pylist(), dtype=str)
+    rows: NDArray[np.intp] = encoded.indices.to_numpy(zero_copy_only=False).astype(np.intp)
+    return names[rows]
 
 
 def _check_quaternions(quat: FloatArray, path: Path, timestamps: NDArray[np.int64], what: str) -> None:
