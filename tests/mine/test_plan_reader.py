@@ -91,6 +91,16 @@ def test_negated_places_and_motions_are_wrapped_in_scenario_not() -> None:
     assert "scenario_not(on_intersection)" in program and "near_intersection" in program
 
 
+def test_a_word_that_stands_for_several_conditions_gives_each_of_them() -> None:
+    program = _program("jaywalking pedestrians")
+    assert "on_road(subject, log_dir)" in program and "scenario_not(at_pedestrian_crossing)" in program
+    assert "scenario_not(stationary)(subject, log_dir)" in _program("active vehicles at a stop sign")
+    assert "scenario_not(stationary)" in _program("vehicles that are not stationary")
+    program = _program("vehicles with at least three pedestrians within 5 meters")
+    assert "near_objects(subject, related_1, log_dir, distance_thresh=5, min_objects=3)" in program
+    assert "distance_thresh=10" in _program("cars turning right with a pedestrian nearby")
+
+
 def test_a_noun_of_several_categories_is_their_union_and_an_adjective_filters_the_other_objects() -> None:
     program = _program("buses in a bike lane")
     assert "scenario_or([get_objects_of_category(log_dir, category='BUS'), " in program

@@ -70,6 +70,8 @@ _STOPPED = ("has_velocity", "min_velocity=0, max_velocity=0.5")
 _MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
     (r"moving", *_MOVING),
     (r"parked|stationary", "stationary", None),
+    (r"active|non-stationary", "not stationary", None),
+    (r"jaywalking", "jaywalking", None),
     (r"stopped|halted", *_STOPPED),
     (r"fast|speeding|fast-moving", "has_velocity", "min_velocity=10"),
     (r"turning", "turning", None),
@@ -101,7 +103,7 @@ class _Reading:
     numbers: list[dict[str, Any]] = field(default_factory=list)
 
     def condition(self, function: str, argument: str | None = None, *, negated: bool = False) -> None:
-        self.conditions.append({"function": function, "negated": negated, "argument": argument})
+        self.conditions.extend(_conditions(function, argument, negated))
 
     def relate(
         self,
@@ -137,10 +139,23 @@ class _Reading:
             words = " ".join(phrase.split())
         if all(obj["words"] != words for obj in self.related):
             own = _modifier_conditions(found.group("mods"))
-            conditions = [{"function": f, "negated": False, "argument": a} for f, a in own]
+            conditions = [c for f, a in own for c in _conditions(f, a, False)]
             category = _one_or_many(categories)
             self.related.append({"words": words, "category": category, "conditions": conditions})
         return words
+
+
+#: Words that stand for more than one condition (function, argument, negated).
+_COMPOUND: dict[str, tuple[tuple[str, str | None, bool], ...]] = {
+    "not stationary": (("stationary", None, True),),
+    "jaywalking": (("on_road", None, False), ("at_pedestrian_crossing", None, True)),
+}
+
+
+def _conditions(function: str, argument: str | None, negated: bool) -> list[dict[str, Any]]:
+    """The plan's condition entries for one phrase (a compound word gives several)."""
+    parts = _COMPOUND.get(function, ((function, argument, False),))
+    return [{"function": f, "negated": n != negated, "argument": a} for f, a, n in parts]
 
 
 class _Unread(ValueError):
@@ -230,6 +245,10 @@ _PHRASES: tuple[_Phrase, ...] = (
         r"surrounded by (?P<count>\d+) or more {obj} within " + _DIST,
         "near_objects", "distance_thresh={dist}, min_objects={count}",
     ),
+    _Phrase(
+        r"(?:with|having) (?:at least )?(?P<count>\d+)(?: or more)? {obj} within " + _DIST,
+        "near_objects", "distance_thresh={dist}, min_objects={count}",
+    ),
     _Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
     _Phrase(
         _GOING + r"(?:faster than|above|over|at more than) " + _SPEED, "has_velocity", "min_velocity={speed}"
@@ -289,8 +308,10 @@ _PHRASES: tuple[_Phrase, ...] = (
         "get_objects_in_relative_direction", "within_distance=10", "{dir}",
     ),
     _Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
+    _Phrase(r"(?:with|having) {obj} (?:nearby|close by|around)", "near_objects", "distance_thresh=10"),
     _Phrase(
-        r"(?:walking |moving |standing |riding )?(?:close together|side by side|in a group|together)",
+        r"(?:walking |moving |standing |riding )?(?:close together|side by side|in a group|together"
+        r"|(?:near|close to|next to) (?:each other|one another))",
         "near_objects", "distance_thresh=2", to_subject=True,
     ),
     _Phrase(r"(?:going past|driving past|passing by) {obj}", "near_objects", "distance_thresh=20"),
@@ -302,7 +323,9 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(_IN_LANE + r"bus lanes?", "on_lane_type", "lane_type='BUS'"),
     _Phrase(_IN_LANE + r"(?:vehicle|car|traffic|driving) lanes?", "on_lane_type", "lane_type='VEHICLE'"),
     _Phrase(_NEAR + " " + _INTERSECTION, "near_intersection", "threshold=15"),
-    _Phrase(r"(?P<neg>(?:but )?(?:outside|not in|not inside))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X),
+    _Phrase(
+        r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
+    ),
     _Phrase(r"(?:in|inside|within|at|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
     _Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
     _Phrase(r"(?P<neg>away from|not at|not on|outside(?: of)?) " + _CROSSWALK, "at_pedestrian_crossing"),
@@ -315,6 +338,7 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
     _Phrase(r"(?:on|in) the (?:road|street|roadway|carriageway)", "on_road"),
     _Phrase(r"in traffic", None),
+    _Phrase(r"jaywalking", "jaywalking"),
     # bare relations (after the map phrases)
     _Phrase(r"(?:near|next to|beside|alongside|nearby|around) {obj}", "near_objects", "distance_thresh=10"),
     _Phrase(r"close to {obj}", "near_objects", "distance_thresh=5"),
@@ -347,7 +371,7 @@ _PHRASES: tuple[_Phrase, ...] = (
         "changing_lanes",
     ),
     _Phrase(r"(?:waiting )?(?:standing still|at a standstill|not moving|at rest|stopped|halted)", *_STOPPED),
-    _Phrase(r"parked", "stationary"),
+    _Phrase(_NOT + r"(?:parked|stationary)", "stationary"),
     _Phrase(r"(?:at (?:a )?high speed|quickly)", "has_velocity", "min_velocity=10"),
     _Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running)", *_MOVING),
 )  # fmt: skip
