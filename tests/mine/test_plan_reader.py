@@ -2,17 +2,19 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from mining_scenes import idx, street_scene
 
 from scenariominer.config.mining import GenerationConfig, MiningConfig
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import HashingEmbedder
-from scenariominer.mine.loop import generate_program
+from scenariominer.mine.loop import ProgramCache, generate_program
 from scenariominer.mine.plan import plan_text
 from scenariominer.mine.plan_program import compile_plan
 from scenariominer.mine.plan_reader import read_plan
-from scenariominer.mine.programs import load_examples
+from scenariominer.mine.programs import ExampleProgram, load_examples
 from scenariominer.mine.sandbox import ProgramResult, run_trusted_program
 from scenariominer.mine.synthesis import ExampleSelector, ProgramSynthesizer
 from scenariominer.testing import ScriptedBackend
@@ -116,6 +118,10 @@ def _trusted(program: str, context, description: str) -> ProgramResult:  # type:
     return run_trusted_program(program, context, description=description)
 
 
+def _untrusted(program: str, context, description: str) -> ProgramResult:  # type: ignore[no-untyped-def]
+    raise AssertionError("a cached program was run again")
+
+
 def _synth(replies: list[str], *, plan_rules: bool = True) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
     config = GenerationConfig(max_attempts=1, plan=True, plan_program=True, plan_rules=plan_rules)
@@ -123,14 +129,29 @@ def _synth(replies: list[str], *, plan_rules: bool = True) -> tuple[ProgramSynth
     return ProgramSynthesizer(ChatClient(backend), selector, config), backend
 
 
-def test_the_loop_builds_the_program_of_a_read_description_without_any_model_call() -> None:
-    synth, backend = _synth([])
-    report = generate_program(
-        "vehicles changing lanes to the left", synth, [SCENE], config=MiningConfig(), runner=_trusted
-    )
-    assert report.ok and backend.requests == []
-    assert report.plan is not None and report.plan["read_by"] == "rules"
-    assert [a.index for a in report.attempts] == [0]
+class _NoExamples(ExampleSelector):
+    """A selector that fails when asked: the model's request must not be composed."""
+
+    def select(self, description: str, k: int, *, leave_one_out: bool = True) -> list[ExampleProgram]:
+        raise AssertionError("the few-shot examples were looked up")
+
+
+def test_the_loop_builds_the_program_of_a_read_description_without_any_model_call(tmp_path: Path) -> None:
+    backend = ScriptedBackend([])
+    config = GenerationConfig(max_attempts=1, plan=True, plan_program=True, plan_rules=True)
+    synth = ProgramSynthesizer(ChatClient(backend), _NoExamples(load_examples(), HashingEmbedder(8)), config)
+    description = "vehicles changing lanes to the left"
+    with ProgramCache(tmp_path / "programs.sqlite3") as cache:
+        report = generate_program(
+            description, synth, [SCENE], config=MiningConfig(), runner=_trusted, cache=cache
+        )
+        assert report.ok and backend.requests == []  # no model call, no request composed
+        assert report.plan is not None and report.plan["read_by"] == "rules"
+        assert [a.index for a in report.attempts] == [0]
+        again = generate_program(
+            description, synth, [SCENE], config=MiningConfig(), runner=_untrusted, cache=cache
+        )
+        assert again.from_cache and again.program == report.program  # the second time from the cache
 
 
 def test_with_the_rules_off_or_an_unknown_word_the_model_reads_the_description() -> None:
@@ -147,3 +168,24 @@ def test_with_the_rules_off_or_an_unknown_word_the_model_reads_the_description()
         report = generate_program(description, synth, [SCENE], config=MiningConfig(), runner=_trusted)
         assert len(backend.requests) >= 1  # the plan call
         assert report.plan is not None and "read_by" not in report.plan
+
+
+def test_when_the_read_plans_program_fails_the_model_writes_one_from_the_full_request() -> None:
+    def runner(program: str, context, description: str) -> ProgramResult:  # type: ignore[no-untyped-def]
+        if "changing_lanes" in program:  # the rules' program: made to fail here
+            raise_on = "step_1 = changing_lanes(subject, log_dir, direction='left')"
+            program = program.replace(raise_on, "step_1 = changing_lanes(subject, log_dir, direction='up')")
+        return run_trusted_program(program, context, description=description)
+
+    written = (
+        "```python\nv = get_objects_of_category(log_dir, category='VEHICLE')\n"
+        "output_scenario(v, description, log_dir, output_dir)\n```"
+    )
+    synth, backend = _synth([written])
+    report = generate_program(
+        "vehicles changing lanes to the left", synth, [SCENE], config=MiningConfig(), runner=runner
+    )
+    first, second = report.attempts
+    assert first.index == 0 and first.error is not None  # the rules' program, failed
+    assert second.index == 1 and second.error is None and report.ok
+    assert len(backend.requests) == 1  # no plan call (the rules read it), one program request

@@ -43,6 +43,7 @@ from scenariominer.llm.cache import resolve_cache_dir
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.plan_program import PLAN_PROGRAM_VERSION, PlanCompileError, compile_plan
+from scenariominer.mine.plan_reader import PLAN_READER_VERSION
 from scenariominer.mine.prompts import PROMPT_VERSION, repair_messages
 from scenariominer.mine.sandbox import ErrorKind, ProgramError, ProgramResult, check_program, run_program
 from scenariominer.mine.synthesis import ProgramSynthesizer, normalize_description
@@ -55,6 +56,7 @@ __all__ = [
     "ProgramCache",
     "ProgramRunner",
     "generate_program",
+    "plan_cache_key",
     "program_cache_key",
     "validate_program",
 ]
@@ -232,6 +234,23 @@ def program_cache_key(
         payload["grammar"] = hashlib.sha256(program_grammar().encode("utf-8")).hexdigest()
     if plan_program:
         payload["plan_program"] = PLAN_PROGRAM_VERSION
+    blob = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    return hashlib.sha256(blob.encode("utf-8")).hexdigest()
+
+
+def plan_cache_key(description: str, model: str, plan: dict[str, Any]) -> str:
+    """SHA-256 (hex) of a program built from a plan the phrase rules read: description, plan, rules.
+
+    The phrase rules' reading and :data:`PLAN_PROGRAM_VERSION` fix the program, so no prompt
+    enters the key (the model identity does, as the report names it).
+    """
+    payload = {
+        "description": normalize_description(description),
+        "model": model,
+        "plan": plan,
+        "plan_program": PLAN_PROGRAM_VERSION,
+        "plan_reader": PLAN_READER_VERSION,
+    }
     blob = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
     return hashlib.sha256(blob.encode("utf-8")).hexdigest()
 
@@ -419,16 +438,29 @@ def generate_program(
         raise ValueError("generate_program needs at least one validation log")
     cfg = config or validation[0].config
     gen_cfg = cfg.generation
-    first = synthesizer.first_messages(description)
     plan = synthesizer.plan_for(description)
     from_plan = plan is not None and synthesizer.config.plan_program
+    state = _LoopState()
+    if plan is not None and from_plan and plan.get("read_by") == "rules":
+        # Read by the phrase rules: try their program before composing the model's request (whose
+        # few-shot examples need the embedding model, seconds to load); cached under the plan.
+        rules_key = plan_cache_key(description, synthesizer.model, plan)
+        hit = cache.get(rules_key) if cache is not None and not force else None
+        if hit is not None:
+            return hit
+        _try_plan_program(plan, description, validation, state, config=config, runner=runner)
+        if state.accepted is not None:
+            report = _report(description, synthesizer, validation, gen_cfg, state, plan)
+            if cache is not None:
+                cache.put(rules_key, report)
+            return report
+    first = synthesizer.first_messages(description)
     key = program_cache_key(description, synthesizer.model, first, gen_cfg, plan_program=from_plan)
     if cache is not None and not force:
         hit = cache.get(key)
         if hit is not None:
             return hit
-    state = _LoopState()
-    if plan is not None and from_plan:
+    if plan is not None and from_plan and not state.attempts:
         _try_plan_program(plan, description, validation, state, config=config, runner=runner)
     messages = first
     failed: set[str] = set()
@@ -468,7 +500,21 @@ def generate_program(
         repeated = identity in failed
         failed.add(identity)
         messages = repair_messages(first, generation.program, error.feedback(), repeated=repeated)
-    report = GenerationReport(
+    report = _report(description, synthesizer, validation, gen_cfg, state, plan)
+    if cache is not None:
+        cache.put(key, report)
+    return report
+
+
+def _report(
+    description: str,
+    synthesizer: ProgramSynthesizer,
+    validation: Sequence[LogContext],
+    gen_cfg: GenerationConfig,
+    state: _LoopState,
+    plan: dict[str, Any] | None,
+) -> GenerationReport:
+    return GenerationReport(
         description=description,
         status=GenerationStatus.OK if state.accepted is not None else GenerationStatus.MANUAL_REVIEW,
         program=state.accepted,
@@ -478,6 +524,3 @@ def generate_program(
         max_attempts=gen_cfg.max_attempts,
         plan=plan,
     )
-    if cache is not None:
-        cache.put(key, report)
-    return report

@@ -24,7 +24,7 @@ from typing import Any
 __all__ = ["PLAN_READER_VERSION", "read_plan"]
 
 #: Version of the phrase tables; part of the program-cache key through the plan text.
-PLAN_READER_VERSION = "plan-reader/1"
+PLAN_READER_VERSION = "plan-reader/2"
 
 #: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
 _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
