@@ -12,7 +12,8 @@ know makes it return ``None`` and the model reads the description instead. It ne
 
 The tables map English phrasing to the predicates, with the settings the predicates' docstrings
 and the evaluation set's dev part use for each phrase (``scenariominer.eval.nl2prog``: written from
-the dev split only; the hold-out split scores it). Units are converted (km/h, mph to m/s).
+the dev split and the example bank only; the hold-out split scores it). Units are converted (km/h,
+mph to m/s).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from typing import Any
 
 __all__ = ["PLAN_READER_VERSION", "read_plan"]
 
-#: Version of the phrase tables; part of the program-cache key through the plan text.
+#: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
 PLAN_READER_VERSION = "plan-reader/2"
 
 #: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
