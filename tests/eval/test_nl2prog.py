@@ -204,6 +204,20 @@ def test_the_reference_scores_one_and_a_disjoint_candidate_zero(shared_log: LogC
     assert disjoint.descriptions[0].cells[0].shared_cells == 0
 
 
+def test_descriptions_the_phrase_rules_read_are_aggregated_apart(shared_log: LogContext) -> None:
+    entries = [_entry(SPEEDING), _entry(SCHOOL_BUSES)]
+    scripted = _scripted({SPEEDING: _BOLLARDS, SCHOOL_BUSES: _BOLLARDS})
+    ev = evaluate_nl2prog(
+        entries, [shared_log], scripted, candidate_runner=_trusted, read_by_rules=lambda d: d == SPEEDING
+    )
+    assert [s.read_by_rules for s in ev.descriptions] == [True, False]
+    rules, model = ev.by_reader()["rules"], ev.by_reader()["model"]
+    assert (rules.n_descriptions, rules.n_scored_cells, rules.mean_jaccard) == (1, 1, 0.0)
+    assert (model.n_descriptions, model.n_scored_cells, model.mean_jaccard) == (1, 0, None)
+    doc = ev.to_json_dict()
+    assert doc["read_by"]["rules"]["n_descriptions"] == 1 and doc["descriptions"][0]["read_by_rules"] is True
+
+
 def test_failing_candidates_are_not_runnable_and_score_zero(shared_log: LogContext) -> None:
     entries = [_entry(d) for d in (SPEEDING, "vehicles inside an intersection", "bollards", "a box truck")]
     raising = "x = get_objects_of_category(log_dir, category='FLYING_CAR')\noutput_scenario(x, description)\n"

@@ -250,6 +250,7 @@ def evaluate_nl2prog(
     from scenariominer.api.mining import load_logs
     from scenariominer.mine.context import LogContext
     from scenariominer.mine.loop import ProgramCache
+    from scenariominer.mine.plan_reader import read_plan
 
     if request.limit is not None and request.limit < 0:
         raise EvaluationError(f"limit must be >= 0, got {request.limit}")
@@ -266,6 +267,7 @@ def evaluate_nl2prog(
     if not contexts:
         raise EvaluationError(f"no logs found under {[str(p) for p in paths]}")
     gen = config.mining.generation
+    provider_is_the_loop = provider is None
     if provider is None:
         cache = ProgramCache.in_dir(config.llm.cache_dir) if gen.cache_programs else None
         provider = generator_provider(
@@ -276,10 +278,12 @@ def evaluate_nl2prog(
             usage=usage,
         )
     progress = progress or NullProgress()
+    reads = gen.plan and gen.plan_rules and gen.plan_program and provider_is_the_loop
     with step(progress, "descriptions", len(entries)):
         return _evaluate_nl2prog(
             entries,
             contexts,
             provider,
             on_description=lambda s: progress.advance(1, s.description[:48]),
+            read_by_rules=(lambda d: read_plan(d) is not None) if reads else None,
         )

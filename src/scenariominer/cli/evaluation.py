@@ -356,6 +356,15 @@ def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
         f"where it finds nothing the candidate agrees in {agree}/{empty}; {ev.seconds:.1f} s",
         soft_wrap=True,
     )
+    rules, model = ev.by_reader()["rules"], ev.by_reader()["model"]
+    if rules.n_descriptions:
+        out.print(
+            f"read by the phrase rules: {rules.n_descriptions}/{n}, mean Jaccard "
+            f"{_jaccard_cell(rules.mean_jaccard)} over {rules.n_scored_cells} cell(s); read by the model: "
+            f"{model.n_descriptions}/{n}, mean Jaccard {_jaccard_cell(model.mean_jaccard)} over "
+            f"{model.n_scored_cells} cell(s)",
+            soft_wrap=True,
+        )
     if ev.n_reference_failures:
         out.print(
             f"[yellow]note:[/yellow] the reference failed in {ev.n_reference_failures} cell(s) "

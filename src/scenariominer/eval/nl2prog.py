@@ -321,6 +321,8 @@ class DescriptionScore:
         cells: one score per log.
         provider_s: seconds the provider took (e.g. the model loop).
         execution_s: seconds running the candidate on the logs.
+        read_by_rules: the phrase rules read the description (no model reading it;
+            :mod:`scenariominer.mine.plan_reader`).
     """
 
     description: str
@@ -332,6 +334,7 @@ class DescriptionScore:
     cells: tuple[CellScore, ...]
     provider_s: float
     execution_s: float
+    read_by_rules: bool = False
 
     @property
     def scored_cells(self) -> tuple[CellScore, ...]:
@@ -361,6 +364,7 @@ class DescriptionScore:
             "error": self.error,
             "provider_s": round(self.provider_s, 3),
             "execution_s": round(self.execution_s, 3),
+            "read_by_rules": self.read_by_rules,
             "program": self.program,
             "logs": [
                 {
@@ -468,6 +472,15 @@ class Nl2ProgEvaluation:
                 out[family] = FamilyScore(family, len(members), runnable, n_cells, mean)
         return out
 
+    def by_reader(self) -> dict[str, FamilyScore]:
+        """Aggregates of the descriptions the phrase rules read (``rules``) and of the rest (``model``)."""
+        out: dict[str, FamilyScore] = {}
+        for name, read in (("rules", True), ("model", False)):
+            members = [s for s in self.descriptions if s.read_by_rules is read]
+            runnable, n_cells, mean = _aggregate(members)
+            out[name] = FamilyScore(name, len(members), runnable, n_cells, mean)
+        return out
+
     def to_json_dict(self) -> dict[str, Any]:
         """Plain-JSON form: the summary, the per-family table and every description."""
         agree, empty = self.empty_cells
@@ -491,6 +504,15 @@ class Nl2ProgEvaluation:
                     "mean_jaccard": None if f.mean_jaccard is None else round(f.mean_jaccard, 4),
                 }
                 for f in self.per_family().values()
+            },
+            "read_by": {
+                f.family: {
+                    "n_descriptions": f.n_descriptions,
+                    "n_runnable": f.n_runnable,
+                    "n_scored_cells": f.n_scored_cells,
+                    "mean_jaccard": None if f.mean_jaccard is None else round(f.mean_jaccard, 4),
+                }
+                for f in self.by_reader().values()
             },
             "descriptions": [s.to_json_dict() for s in self.descriptions],
         }
@@ -585,6 +607,7 @@ def evaluate_nl2prog(
     candidate_runner: ProgramRunner | None = None,
     reference_runner: ProgramRunner | None = None,
     on_description: Callable[[DescriptionScore], None] | None = None,
+    read_by_rules: Callable[[str], bool] | None = None,
 ) -> Nl2ProgEvaluation:
     """Score ``provider``'s programs against the references on every log.
 
@@ -598,6 +621,8 @@ def evaluate_nl2prog(
             (:func:`~scenariominer.mine.sandbox.run_program`), as they may be model-written.
         reference_runner: how reference programs run; default in-process (trusted).
         on_description: called with each description's score (progress).
+        read_by_rules: whether the provider's plan step reads a description by the phrase rules
+            (labels each score, for :meth:`Nl2ProgEvaluation.by_reader`); ``None``: never.
 
     Raises:
         ValueError: no logs.
@@ -611,6 +636,8 @@ def evaluate_nl2prog(
     scores = []
     for entry in entries:
         score = _score_entry(entry, contexts, provider, cand, ref, cache)
+        if read_by_rules is not None and read_by_rules(entry.description):
+            score = replace(score, read_by_rules=True)
         scores.append(score)
         if on_description is not None:
             on_description(score)
