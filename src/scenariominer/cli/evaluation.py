@@ -356,7 +356,8 @@ def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
         f"where it finds nothing the candidate agrees in {agree}/{empty}; {ev.seconds:.1f} s",
         soft_wrap=True,
     )
-    rules, model = ev.by_reader()["rules"], ev.by_reader()["model"]
+    readers = ev.by_reader()
+    rules, model = readers["rules"], readers["model"]
     if rules.n_descriptions:
         out.print(
             f"read by the phrase rules: {rules.n_descriptions}/{n}, mean Jaccard "

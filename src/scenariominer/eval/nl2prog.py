@@ -404,6 +404,15 @@ class FamilyScore:
         """Share of the family's descriptions with a runnable candidate."""
         return self.n_runnable / self.n_descriptions if self.n_descriptions else float("nan")
 
+    def to_json_dict(self) -> dict[str, Any]:
+        """Plain-JSON form (without the tag, which keys it)."""
+        return {
+            "n_descriptions": self.n_descriptions,
+            "n_runnable": self.n_runnable,
+            "n_scored_cells": self.n_scored_cells,
+            "mean_jaccard": None if self.mean_jaccard is None else round(self.mean_jaccard, 4),
+        }
+
 
 def _aggregate(scores: Sequence[DescriptionScore]) -> tuple[int, int, float | None]:
     runnable = sum(s.runnable for s in scores)
@@ -496,24 +505,8 @@ class Nl2ProgEvaluation:
             "empty_cells_agreeing": agree,
             "n_reference_failures": self.n_reference_failures,
             "seconds": round(self.seconds, 3),
-            "families": {
-                f.family: {
-                    "n_descriptions": f.n_descriptions,
-                    "n_runnable": f.n_runnable,
-                    "n_scored_cells": f.n_scored_cells,
-                    "mean_jaccard": None if f.mean_jaccard is None else round(f.mean_jaccard, 4),
-                }
-                for f in self.per_family().values()
-            },
-            "read_by": {
-                f.family: {
-                    "n_descriptions": f.n_descriptions,
-                    "n_runnable": f.n_runnable,
-                    "n_scored_cells": f.n_scored_cells,
-                    "mean_jaccard": None if f.mean_jaccard is None else round(f.mean_jaccard, 4),
-                }
-                for f in self.by_reader().values()
-            },
+            "families": {f.family: f.to_json_dict() for f in self.per_family().values()},
+            "read_by": {f.family: f.to_json_dict() for f in self.by_reader().values()},
             "descriptions": [s.to_json_dict() for s in self.descriptions],
         }
 

@@ -93,8 +93,6 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     Raises:
         PlanCompileError: the plan names something the rules cannot express (the message says what).
     """
-    from scenariominer.mine.dsl import DSL_FUNCTIONS
-
     if "error" in plan:
         raise PlanCompileError(f"no plan: {plan['error']}")
     notes: list[str] = []
@@ -107,14 +105,8 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     current = "subject"
     step = 0
     for cond in plan.get("conditions", []):
-        name = str(cond.get("function", ""))
-        func = DSL_FUNCTIONS.get(name)
-        if func is None:
-            raise PlanCompileError(f"condition {name!r} is not a mining function")
-        kwargs = _settings(name, func, cond.get("argument"), notes)
-        call = f"scenario_not({name})" if cond.get("negated") else name
         step += 1
-        lines.append(f"step_{step} = {call}({current}, log_dir{_kwargs_text(kwargs)})")
+        lines.append(f"step_{step} = {_condition_call(cond, current, notes)}")
         current = f"step_{step}"
 
     objects = _related_objects(plan, lines)
@@ -269,13 +261,28 @@ def _relation_call(
     return f"{name}({current}, {other}, log_dir{kwargs})"
 
 
+def _condition_call(cond: Mapping[str, Any], target: str, notes: list[str]) -> str:
+    """The call that filters the object set ``target`` by one planned condition.
+
+    Raises:
+        PlanCompileError: the condition is not a mining function, or its settings do not fit.
+    """
+    from scenariominer.mine.dsl import DSL_FUNCTIONS
+
+    name = str(cond.get("function", ""))
+    func = DSL_FUNCTIONS.get(name)
+    if func is None:
+        raise PlanCompileError(f"condition {name!r} is not a mining function")
+    kwargs = _kwargs_text(_settings(name, func, cond.get("argument"), notes))
+    call = f"scenario_not({name})" if cond.get("negated") else name
+    return f"{call}({target}, log_dir{kwargs})"
+
+
 def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str]:
     """Define one object set per planned other object; its words (lower case) -> variable name.
 
     An object's own conditions ("a *moving* vehicle", from the phrase rules) filter its set.
     """
-    from scenariominer.mine.dsl import DSL_FUNCTIONS
-
     objects: dict[str, str] = {}
     for index, obj in enumerate(plan.get("related", []), start=1):
         category = _category(obj.get("words"), obj.get("category"))
@@ -284,13 +291,7 @@ def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str
         var = f"related_{index}"
         lines.append(f"{var} = {_objects_of(category)}")
         for cond in obj.get("conditions", []):
-            name = str(cond.get("function", ""))
-            func = DSL_FUNCTIONS.get(name)
-            if func is None:
-                raise PlanCompileError(f"condition {name!r} is not a mining function")
-            kwargs = _kwargs_text(_settings(name, func, cond.get("argument"), []))
-            call = f"scenario_not({name})" if cond.get("negated") else name
-            lines.append(f"{var} = {call}({var}, log_dir{kwargs})")
+            lines.append(f"{var} = {_condition_call(cond, var, [])}")
         objects[str(obj.get("words", "")).strip().lower()] = var
     return objects
 

@@ -101,7 +101,6 @@ class _Reading:
     conditions: list[dict[str, Any]] = field(default_factory=list)
     related: list[dict[str, Any]] = field(default_factory=list)
     relations: list[dict[str, Any]] = field(default_factory=list)
-    numbers: list[dict[str, Any]] = field(default_factory=list)
 
     def condition(self, function: str, argument: str | None = None, *, negated: bool = False) -> None:
         self.conditions.extend(_conditions(function, argument, negated))
@@ -139,8 +138,7 @@ class _Reading:
         else:
             words = " ".join(phrase.split())
         if all(obj["words"] != words for obj in self.related):
-            own = _modifier_conditions(found.group("mods"))
-            conditions = [c for f, a in own for c in _conditions(f, a, False)]
+            conditions = _modifier_conditions(found.group("mods"))
             category = _one_or_many(categories)
             self.related.append({"words": words, "category": category, "conditions": conditions})
         return words
@@ -192,18 +190,19 @@ def _one_or_many(categories: tuple[str, ...]) -> str | list[str]:
     return categories[0] if len(categories) == 1 else list(categories)
 
 
-def _modifier_conditions(mods: str | None) -> list[tuple[str, str | None]]:
-    out: list[tuple[str, str | None]] = []
+def _modifier_conditions(mods: str | None) -> list[dict[str, Any]]:
+    """The plan's condition entries of the adjectives ``mods`` ("moving parked")."""
+    out: list[dict[str, Any]] = []
     for word in re.findall(_MODIFIER_RE, mods or ""):
         for pattern, function, argument in _MODIFIERS:
             if re.fullmatch(pattern, word):
-                out.append((function, argument))
+                out.extend(_conditions(function, argument, False))
                 break
     return out
 
 
 def _speed_mps(value: str, unit: str | None) -> float:
-    return round(float(value) * _TO_MPS.get((unit or "m/s").replace(" ", ""), 1.0), 2)
+    return round(float(value) * _TO_MPS[unit or "m/s"], 2)
 
 
 @dataclass(frozen=True)
@@ -225,7 +224,7 @@ class _Phrase:
 
 _NUMBER = r"\d+(?:\.\d+)?"
 _DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
-_SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>m/s|mps|km/h|kph|mph)?"
+_SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(_TO_MPS)})?"
 _GOING = r"(?:(?:moving|going|driving|travell?ing) )?"
 _HAVE = r"(?:that have|that has|having|with)"
 _CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing)s?"
@@ -414,8 +413,7 @@ def read_plan(description: str) -> dict[str, Any] | None:
         return None
     try:
         reading = _Reading(subject_words=subject.group("noun"), subject=_categories(subject.group("noun")))
-        for function, argument in _modifier_conditions(subject.group("mods")):
-            reading.condition(function, argument)
+        reading.conditions.extend(_modifier_conditions(subject.group("mods")))
         rest = " " + text[subject.end() :] + " "
         for pattern, phrase in _COMPILED:
             while (found := pattern.search(rest)) is not None:
