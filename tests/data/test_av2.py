@@ -167,6 +167,14 @@ def test_discover_finds_logs_at_any_depth_of_a_dataset_root(tmp_path: Path) -> N
     )
 
 
+def test_discover_counts_a_log_folder_nested_in_another_log_folder_once(tmp_path: Path) -> None:
+    _small_log(tmp_path / "root" / "log-a")
+    _small_log(tmp_path / "root" / "log-a" / "copy" / "log-inner")
+    _small_log(tmp_path / "root" / "log-b")
+    found = Av2Reader().discover(tmp_path / "root")
+    assert [s.path.name for s in found] == ["log-a", "log-b"]
+
+
 def test_discover_ignores_other_things(tmp_path: Path) -> None:
     (tmp_path / "table.csv").write_text("a,b\n1,2\n")
     assert Av2Reader().discover(tmp_path) == []

@@ -52,6 +52,16 @@ def _referred(description: str) -> set[str]:
         ("people within five metres of a stop sign", {"ped"}),  # 4 m from the sign at t = 0
         ("vehicles behind the ego vehicle", {"changer"}),  # 20 m behind in its lane
         ("vehicles with a bike on their right side", {"ego"}),  # the bike rides 3.6 m to its right
+        # phrases read from the published descriptions' dev part (session 11)
+        ("cars within 30 meters ahead of the ego vehicle", {"lead"}),  # parked is 7.2 m to the side
+        ("cars within 25 meters behind the ego vehicle", {"changer"}),
+        ("cars following closely behind the ego vehicle", {"changer"}),  # until it changes lanes
+        ("vehicles in same lane as the ego car", {"lead", "changer"}),
+        ("vehicles on an intersection", {"turner"}),
+        ("cars going faster than 13 meters per second", {"overtaker"}),  # 15 m/s; oncoming 12 m/s
+        ("cars overtaking the ego vehicle", {"overtaker"}),  # passes along the ego's left at t = 4 s
+        ("the ego vehicle being overtaken by a car", {"ego"}),
+        ("the ego vehicle being overtaken on the right by a car", set()),
         ("vehicles in the same lane as the ego car", {"lead", "changer"}),
         ("vehicles on the other side of the road from the ego", {"oncoming", "parked"}),
     ],
@@ -64,7 +74,10 @@ def test_a_read_description_finds_the_objects_it_describes(description: str, exp
     "description",
     [
         "vehicles swerving sideways",  # "swerving" is no known phrase
-        "a bus overtaking a truck",
+        "a bus overtaking a truck in the rain",
+        # a relative clause after another road user may describe that one, not the subject
+        "pedestrian in front of a bicyclist who is to the left of a vehicle",
+        "vehicles with a bike that is to their right",
         "vehicles in the wrong lane",  # "in the ... lane" is known, "wrong" is not
         "pedestrians squeezing between parked vehicles",
         "oncoming traffic",
@@ -72,6 +85,30 @@ def test_a_read_description_finds_the_objects_it_describes(description: str, exp
 )
 def test_a_description_with_any_unknown_word_is_left_to_the_model(description: str) -> None:
     assert read_plan(description) is None
+
+
+def test_a_stated_count_of_the_other_road_users_goes_to_the_relation_that_takes_it() -> None:
+    assert "min_number=2" in _program("box truck with multiple construction cones to its right")
+    assert "near_objects(subject, related_1, log_dir, distance_thresh=10, min_objects=3)" in _program(
+        "vehicle near at least 3 bollards"
+    )
+    assert read_plan("vehicles following several trucks") is None  # following takes no count
+
+
+def test_a_relation_on_both_sides_needs_each_side() -> None:
+    program = _program("the ego vehicle with vehicles on both sides")
+    assert "direction='left'" in program and "direction='right'" in program
+    assert _referred("the ego vehicle with bikes on both sides") == set()  # a bike on its right only
+    assert _referred("the ego vehicle with a bike on its right") == {"ego"}
+
+
+def test_overtaking_is_a_crossing_of_the_other_road_users_side_from_behind() -> None:
+    program = _program("motorcycle overtaking a vehicle")
+    assert "reverse_relationship(being_crossed_by)(related_1, subject, log_dir, direction='left'" in program
+    assert "in_direction='clockwise'" in program
+    assert "direction='right', in_direction='counterclockwise'" in _program(
+        "vehicles being overtaken on the right by a bicycle"
+    )
 
 
 def test_stated_numbers_are_read_with_their_units() -> None:

@@ -7,7 +7,11 @@ each with a hand-written reference program in the mining DSL, a split and family
 * ``holdout``: never a few-shot example and never used for prompt tuning. It lives outside the
   example-bank files, so :func:`~scenariominer.mine.programs.load_examples` never reads it, and
   the few-shot selector of :func:`generator_provider` additionally drops any bank entry with a
-  holdout description (there is none: a test keeps it so).
+  holdout description (there is none: a test keeps it so);
+* ``published``: a second hold-out, held like ``holdout``, whose descriptions are not ours: a
+  seeded sample of the descriptions RefAV published for the Argoverse 2 scenario-mining task
+  (their wording, our reference programs), drawn before the phrase rules
+  (:mod:`~scenariominer.mine.plan_reader`) were extended from the rest of that list.
 
 :func:`evaluate_nl2prog` asks a *candidate provider* (a ``Callable[[str], str | None]``:
 description in, program or ``None`` out) for a program per description and runs it next to the
@@ -83,8 +87,11 @@ __all__ = [
 #: Name of the evaluation-set file shipped in this package.
 EVAL_SET_FILE = "nl2prog_set.toml"
 
-#: The two splits of the set.
-SPLITS: tuple[str, ...] = ("dev", "holdout")
+#: The splits of the set.
+SPLITS: tuple[str, ...] = ("dev", "holdout", "published")
+
+#: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
+HELD_OUT_SPLITS: tuple[str, ...] = ("holdout", "published")
 
 #: Family tags an entry may carry (what its description exercises); the set covers every one.
 FAMILIES: dict[str, str] = {
@@ -135,7 +142,7 @@ class EvalEntry:
     Attributes:
         description: the natural-language description.
         program: the hand-written reference program (mining DSL, ends with ``output_scenario``).
-        split: ``dev`` or ``holdout``.
+        split: one of :data:`SPLITS`.
         families: what the description exercises (keys of :data:`FAMILIES`).
     """
 
@@ -745,7 +752,7 @@ def generator_provider(
         cache: the program cache (keyed by the whole first request, so selections with and
             without the similar entries are cached apart).
         usage: counts model calls and tokens.
-        hidden: descriptions never shown as examples; default the holdout split.
+        hidden: descriptions never shown as examples; default the held-out splits.
 
     Returns:
         description -> the accepted program, or ``None`` when the loop gave up (manual review).
@@ -759,7 +766,9 @@ def generator_provider(
     gen = replace(config.mining.generation, examples_files=())
     cfg = replace(config, mining=replace(config.mining, generation=gen))
     hidden_descriptions = (
-        tuple(hidden) if hidden is not None else tuple(e.description for e in load_eval_set("holdout"))
+        tuple(hidden)
+        if hidden is not None
+        else tuple(e.description for e in load_eval_set() if e.split in HELD_OUT_SPLITS)
     )
     state: dict[str, Any] = {}
 

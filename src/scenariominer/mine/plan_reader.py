@@ -39,17 +39,19 @@ _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"motorcycles?|motorbikes?", ("MOTORCYCLE",)),
     (r"school bus(?:es)?", ("SCHOOL_BUS",)),
     (r"articulated bus(?:es)?|bendy bus(?:es)?", ("ARTICULATED_BUS",)),
+    (r"city bus(?:es)?", ("BUS",)),
     (r"bus(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
-    (r"box trucks?", ("BOX_TRUCK",)),
+    (r"box trucks?|delivery trucks?", ("BOX_TRUCK",)),
     (r"truck cabs?|semi[- ]trucks?|tractor units?", ("TRUCK_CAB",)),
     (r"trucks?|lorr(?:y|ies)", ("TRUCK", "BOX_TRUCK", "TRUCK_CAB")),
     (r"(?:large|big|heavy) vehicles?", ("LARGE_VEHICLE",)),
     (r"(?:vehicular )?trailers?", ("VEHICULAR_TRAILER",)),
     (r"trams?|streetcars?|trains?|trolleys?|railed vehicles?", ("RAILED_VEHICLE",)),
     (r"cars?|sedans?|suvs?|vans?|pickups?|passenger vehicles?|regular vehicles?", ("REGULAR_VEHICLE",)),
+    (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
     (r"(?:motor )?vehicles?|traffic", ("VEHICLE",)),
     (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
-    (r"wheelchairs?", ("WHEELCHAIR",)),
+    (r"wheelchair users?|wheelchairs?", ("WHEELCHAIR",)),
     (r"strollers?|prams?|pushchairs?", ("STROLLER",)),
     (r"pedestrians?|people|persons?|someone|somebody|peds?|walkers?", ("PEDESTRIAN",)),
     (r"dogs?", ("DOG",)),
@@ -59,7 +61,6 @@ _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:construction )?barrels?", ("CONSTRUCTION_BARREL",)),
     (r"stop signs?", ("STOP_SIGN",)),
     (r"signs?", ("SIGN",)),
-    (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
     (r"objects?|things?|anything|everything|road users?|actors?|agents?", ("ANY",)),
 )
 
@@ -84,7 +85,11 @@ _WORD_NUMBERS = {
     "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6", "seven": "7",
     "eight": "8", "nine": "9", "ten": "10", "twenty": "20", "thirty": "30", "fifty": "50",
 }  # fmt: skip
-_TO_MPS = {"m/s": 1.0, "mps": 1.0, "km/h": 1 / 3.6, "kph": 1 / 3.6, "kmh": 1 / 3.6, "mph": 0.44704}
+_TO_MPS = {
+    "meters per second": 1.0, "metres per second": 1.0, "m/s": 1.0, "mps": 1.0,
+    "kilometers per hour": 1 / 3.6, "kilometres per hour": 1 / 3.6, "km/h": 1 / 3.6, "kph": 1 / 3.6,
+    "kmh": 1 / 3.6, "miles per hour": 0.44704, "mph": 0.44704,
+}  # fmt: skip
 #: Words that carry no condition of their own.
 _FILLERS = frozenset(
     {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
@@ -220,6 +225,7 @@ class _Phrase:
     direction: str | None = None
     reverse: bool = False  # the other road users do it to the subject ("crossing in front of X")
     to_subject: bool = False  # a relation among the subject's own members ("close together")
+    sides: tuple[str, ...] = ()  # one relation per direction, all required ("on both sides")
 
 
 _NUMBER = r"\d+(?:\.\d+)?"
@@ -227,11 +233,16 @@ _DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
 _SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(_TO_MPS)})?"
 _GOING = r"(?:(?:moving|going|driving|travell?ing) )?"
 _HAVE = r"(?:that have|that has|having|with)"
-_CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing)s?"
+_CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing|designated crossing)s?"
 _INTERSECTION = r"(?:an |the |a )?(?:intersection|junction)s?"
 _NOT = r"(?P<neg>not |without )?"
-_NEAR = r"(?:near|close to|approaching|next to|by)"
-_IN_LANE = r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along)) (?:a |the )?"
+#: How many of the other road users a relation needs: "multiple X", "at least 2 X", "3 or more X".
+_QUANTITY = r"(?:(?P<multi>multiple|several|many) |(?:at least )?(?P<qty>\d+) (?:or more )?)?"
+#: The keyword that takes that count, per relation function.
+_COUNT_KEYWORD = {"has_objects_in_relative_direction": "min_number", "near_objects": "min_objects"}
+_ACCEL = r"(?P<accel>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
+_NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
+_IN_LANE = r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking)) (?:a |the )?"
 _ON_X = "on_intersection"
 _SPEEDING_UP = ("accelerating", "min_accel=1.0")
 _TURNING = ("turning", "direction='{dir}'")
@@ -249,7 +260,30 @@ _PHRASES: tuple[_Phrase, ...] = (
         r"(?:with|having) (?:at least )?(?P<count>\d+)(?: or more)? {obj} within " + _DIST,
         "near_objects", "distance_thresh={dist}, min_objects={count}",
     ),
+    _Phrase(r"within " + _DIST + " of " + _INTERSECTION, "near_intersection", "threshold={dist}"),
+    _Phrase(
+        r"within " + _DIST + r" (?:ahead of|in front of) {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+    ),
+    _Phrase(
+        r"within " + _DIST + r" (?:behind|in back of) {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+    ),
+    _Phrase(
+        r"within " + _DIST + r" (?:to|on) the (?P<dir>left|right)(?: side)? of {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}", "{dir}",
+    ),
+    _Phrase(
+        r"(?:directly )?(?:ahead of|in front of) {obj} within " + _DIST,
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+    ),
+    _Phrase(
+        r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) " + _DIST + "(?: away)?",
+        "facing_toward", "within_angle=30, max_distance={dist}",
+    ),
     _Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
+    _Phrase(r"accelerating (?:at )?(?:more than|over|faster than|above|at least) " + _ACCEL,
+            "accelerating", "min_accel={accel}"),
     _Phrase(
         _GOING + r"(?:faster than|above|over|at more than) " + _SPEED, "has_velocity", "min_velocity={speed}"
     ),
@@ -267,15 +301,29 @@ _PHRASES: tuple[_Phrase, ...] = (
         "being_crossed_by", direction="forward",
     ),
     _Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
-    _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?behind) {obj} in the same lane", "following"),
-    _Phrase(r"(?:following|tailgating|driving behind) {obj}", "following"),
-    _Phrase(r"(?:in the same lane as|sharing (?:a|the) lane with) {obj}", "in_same_lane"),
+    # overtaking: the overtaker crosses the other's left side from behind to ahead (clockwise)
+    _Phrase(r"(?:overtaking|passing) {obj} on the right", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right", reverse=True),
+    _Phrase(r"(?:overtaking|passing) {obj}(?: on the left)?", "being_crossed_by",
+            "in_direction='clockwise', forward_thresh=4", "left", reverse=True),
+    _Phrase(r"being (?:overtaken|passed) on the right by {obj}", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right"),
+    _Phrase(r"being (?:overtaken|passed) (?:on the left )?by {obj}(?: on the left)?", "being_crossed_by",
+            "in_direction='clockwise', forward_thresh=4", "left"),
+    _Phrase(r"being (?:overtaken|passed) by {obj} on the right", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right"),
+    _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj} in (?:the )?same lane",
+            "following"),
+    _Phrase(r"(?:following|tailgating|(?:following |driving |riding |travell?ing )?closely behind|driving behind) {obj}"
+            r"(?: too closely| closely)?", "following"),
+    _Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
+    _Phrase(r"(?:in (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
     _Phrase(
         r"(?:approaching|closing in on|(?:heading|moving|driving|going|walking) towards?) {obj}",
         "heading_toward", "max_distance=30",
     ),
     _Phrase(
-        r"(?:facing|looking (?:towards?|at)|turned towards?) {obj}",
+        r"(?:(?:directly )?facing(?: towards?)?|looking (?:towards?|at)|turned towards?) {obj}",
         "facing_toward", "within_angle=30, max_distance=20",
     ),
     _Phrase(
@@ -284,17 +332,29 @@ _PHRASES: tuple[_Phrase, ...] = (
     ),
     _Phrase(r"on the same side of the road as {obj}", "on_relative_side_of_road", "side='same'"),
     _Phrase(
-        r"(?:travell?ing|heading|driving|moving|going) in the (?P<dir>same|opposite) direction"
-        r" (?:as|to) {obj}",
+        r"(?:travell?ing|heading|driving|moving|going|riding) (?:in (?:the )?)?(?P<dir>same|opposite)"
+        r"(?: direction)? (?:as|to) {obj}",
         "heading_in_relative_direction_to", direction="{dir}",
     ),
     _Phrase(
-        _HAVE + r" {obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
+        r"|on both (?:their |its )?sides)",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
+    ),
+    _Phrase(
+        r"(?:boxed|hemmed|squeezed) in by {obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
+        r"|on both (?:their |its )?sides)",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
+    ),
+    _Phrase(
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
         "has_objects_in_relative_direction", _BESIDE, "{dir}",
     ),
-    _Phrase(_HAVE + r" {obj} behind (?:them|it)", "has_objects_in_relative_direction", _ALONG, "backward"),
+    _Phrase(_HAVE + r" " + _QUANTITY + r"{obj} (?:right |directly |just )?behind(?: them| it)?",
+            "has_objects_in_relative_direction",
+            _ALONG, "backward"),
     _Phrase(
-        _HAVE + r" {obj} (?:in front of|ahead of) (?:them|it)",
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:in front|ahead)(?: of (?:them|it))?",
         "has_objects_in_relative_direction", _ALONG, "forward",
     ),
     _Phrase(
@@ -304,16 +364,18 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(r"(?:behind|in back of) {obj}", "get_objects_in_relative_direction", _ALONG, "backward"),
     _Phrase(r"(?:ahead of|in front of) {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
     _Phrase(
-        r"(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
+        r"(?:directly |immediately )?(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
         "get_objects_in_relative_direction", "within_distance=10", "{dir}",
     ),
     _Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
-    _Phrase(r"(?:with|having) {obj} (?:nearby|close by|around)", "near_objects", "distance_thresh=10"),
+    _Phrase(r"(?:with|having) " + _QUANTITY + r"{obj} (?:nearby|close by|around)", "near_objects",
+            "distance_thresh=10"),
     _Phrase(
         r"(?:walking |moving |standing |riding )?(?:close together|side by side|in a group|together"
         r"|(?:near|close to|next to) (?:each other|one another))",
         "near_objects", "distance_thresh=2", to_subject=True,
     ),
+    _Phrase(r"(?:going|driving|passing) close by {obj}", "near_objects", "distance_thresh=5"),
     _Phrase(r"(?:going past|driving past|passing by) {obj}", "near_objects", "distance_thresh=20"),
     # places on the map (before the bare "near X", which would read "an intersection" as a road user)
     _Phrase(
@@ -326,26 +388,30 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(
         r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
     ),
-    _Phrase(r"(?:in|inside|within|at|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
+    _Phrase(r"(?:in|on|inside|within|at|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
     _Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
-    _Phrase(r"(?P<neg>away from|not at|not on|outside(?: of)?) " + _CROSSWALK, "at_pedestrian_crossing"),
-    _Phrase(r"(?:on|in|inside|within) " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=0"),
+    _Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
+            "at_pedestrian_crossing"),
+    _Phrase(r"(?:on|in|inside|within|(?:driving |walking |going )?across) " + _CROSSWALK,
+            "at_pedestrian_crossing", "within_distance=0"),
     _Phrase(r"(?:at|using) " + _CROSSWALK, "at_pedestrian_crossing"),
     _Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
     _Phrase(r"(?:on|in|within|inside) the drivable area", "in_drivable_area"),
-    _Phrase(r"(?P<neg>off the road|not on the road)", "on_road"),
+    _Phrase(r"(?P<neg>off the (?:road|street)|not on the (?:road|street))", "on_road"),
     _Phrase(r"(?P<neg>outside|off|not (?:on|in)) the drivable area", "in_drivable_area"),
     _Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
-    _Phrase(r"(?:on|in) the (?:road|street|roadway|carriageway)", "on_road"),
+    _Phrase(r"(?:on|in) (?:the )?(?:road|street|roadway|carriageway)", "on_road"),
     _Phrase(r"in traffic", None),
     _Phrase(r"jaywalking", "jaywalking"),
     # bare relations (after the map phrases)
-    _Phrase(r"(?:near|next to|beside|alongside|nearby|around) {obj}", "near_objects", "distance_thresh=10"),
-    _Phrase(r"close to {obj}", "near_objects", "distance_thresh=5"),
+    _Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",
+            "distance_thresh=10"),
+    _Phrase(r"(?:close to|very close to|in close proximity to) " + _QUANTITY + "{obj}", "near_objects",
+            "distance_thresh=5"),
     # motions of the subject
     _Phrase(
-        r"(?:slamming on the brakes|braking hard|hard braking|emergency braking|stopping suddenly"
-        r"|decelerating hard)",
+        r"(?:slamming on the brakes|braking hard|braking heavily|hard braking|heavy braking|emergency braking"
+        r"|stopping suddenly|decelerating hard)",
         "accelerating", "min_accel=-inf, max_accel=-3.0",
     ),
     _Phrase(_NOT + r"(?:speeding up|accelerating|picking up speed|gaining speed)", *_SPEEDING_UP),
@@ -366,12 +432,19 @@ _PHRASES: tuple[_Phrase, ...] = (
         "changing_lanes", "direction='{dir}'",
     ),
     _Phrase(
+        r"(?:making|performing|doing) an? (?P<dir>left|right) lane change",
+        "changing_lanes", "direction='{dir}'",
+    ),
+    _Phrase(
         _NOT + r"(?:changing lanes?|switching lanes?|lane changing"
         r"|(?:performing|making|doing) a lane change)",
         "changing_lanes",
     ),
     _Phrase(r"(?:waiting )?(?:standing still|at a standstill|not moving|at rest|stopped|halted)", *_STOPPED),
     _Phrase(_NOT + r"(?:parked|stationary)", "stationary"),
+    _Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),
+    _Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)", "has_velocity",
+            "min_velocity=0.5, max_velocity=3"),
     _Phrase(r"(?:at (?:a )?high speed|quickly)", "has_velocity", "min_velocity=10"),
     _Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running)", *_MOVING),
 )  # fmt: skip
@@ -392,10 +465,15 @@ def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
     if "value" in groups:
         groups["speed"] = str(_speed_mps(groups["value"], groups.get("unit")))
     argument = phrase.argument.format(**groups) if phrase.argument else None
+    if "multi" in groups or "qty" in groups:
+        if phrase.function not in _COUNT_KEYWORD:
+            raise _Unread(found.group(0))  # a count this relation cannot take
+        count = 2 if "multi" in groups else int(groups["qty"])
+        argument = ", ".join(a for a in (argument, f"{_COUNT_KEYWORD[phrase.function]}={count}") if a)
     if "obj" in groups or phrase.to_subject:
-        direction = phrase.direction.format(**groups) if phrase.direction else None
         other = groups.get("obj", reading.subject_words)
-        reading.relate(phrase.function, other, direction=direction, argument=argument, reverse=phrase.reverse)
+        for direction in phrase.sides or (phrase.direction.format(**groups) if phrase.direction else None,):
+            reading.relate(phrase.function, other, direction=direction, argument=argument, reverse=phrase.reverse)
     else:
         reading.condition(phrase.function, argument, negated="neg" in groups)
 
@@ -415,6 +493,10 @@ def read_plan(description: str) -> dict[str, Any] | None:
         reading = _Reading(subject_words=subject.group("noun"), subject=_categories(subject.group("noun")))
         reading.conditions.extend(_modifier_conditions(subject.group("mods")))
         rest = " " + text[subject.end() :] + " "
+        if re.search(r"\S.*\b(?:who|which|that)\b", rest):
+            # a relative clause after another road user ("... a bicyclist who is to the left of a
+            # vehicle") may describe that road user, not the subject: the model reads it
+            return None
         for pattern, phrase in _COMPILED:
             while (found := pattern.search(rest)) is not None:
                 _apply(phrase, reading, found)

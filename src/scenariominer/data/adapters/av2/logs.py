@@ -143,8 +143,8 @@ class Av2Reader:
             for name in (ANNOTATIONS_WITH_EGO_FILE, ANNOTATIONS_FILE):
                 found.update(hit.parent for hit in path.glob(f"{pattern}/{name}") if hit.is_file())
         # A log folder nested inside another log folder is not a separate log.
-        logs = sorted(found)
-        return [av2_source(d) for d in logs if not any(o != d and o in d.parents for o in logs)]
+        # Each folder's ancestors are looked up in the set: linear in the number of logs.
+        return [av2_source(d) for d in sorted(found) if found.isdisjoint(d.parents)]
 
     def read(self, source: LogSource, config: Config) -> Iterator[Log]:
         """Yield the one log of an Argoverse 2 log folder (see :func:`read_av2_log`)."""
