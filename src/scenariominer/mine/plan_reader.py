@@ -25,7 +25,7 @@ from typing import Any
 __all__ = ["PLAN_READER_VERSION", "read_plan"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/2"
+PLAN_READER_VERSION = "plan-reader/3"
 
 #: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
 _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
