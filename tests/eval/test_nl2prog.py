@@ -85,7 +85,9 @@ def test_the_category_groups_and_many_categories_are_asked_for() -> None:
     assert len(used - {"VEHICLE", "VULNERABLE_ROAD_USER", "ANY"}) >= 25
 
 
-@pytest.mark.parametrize(("one", "other"), [("dev", "holdout"), ("dev", "published"), ("holdout", "published")])
+@pytest.mark.parametrize(
+    ("one", "other"), [("dev", "holdout"), ("dev", "published"), ("holdout", "published")]
+)
 def test_the_splits_are_disjoint(one: str, other: str) -> None:
     first, second = load_eval_set(one), load_eval_set(other)
     assert not {normalize_description(e.description) for e in first} & {

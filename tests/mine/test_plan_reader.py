@@ -95,6 +95,14 @@ def test_a_stated_count_of_the_other_road_users_goes_to_the_relation_that_takes_
     assert read_plan("vehicles following several trucks") is None  # following takes no count
 
 
+def test_a_longer_road_user_name_wins_over_a_shorter_one_it_begins_with() -> None:
+    # "traffic" alone is the VEHICLE group; "traffic cone" and "traffic officer" are not vehicles
+    assert "category='CONSTRUCTION_CONE'" in _program("bicycle near traffic cone")
+    assert "category='OFFICIAL_SIGNALER'" in _program("a traffic officer standing in the road")
+    assert "category='VEHICLE'" in _program("pedestrians crossing in front of traffic")
+    assert "category='WHEELCHAIR'" in _program("wheelchair users on a crosswalk")
+
+
 def test_a_relation_on_both_sides_needs_each_side() -> None:
     program = _program("the ego vehicle with vehicles on both sides")
     assert "direction='left'" in program and "direction='right'" in program

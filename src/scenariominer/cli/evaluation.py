@@ -392,7 +392,11 @@ def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
 @app.command("nl2prog")
 def nl2prog(
     split: Annotated[
-        str, typer.Option("--split", help="Descriptions to score: holdout, published (RefAV's wording, held out), dev or all.")
+        str,
+        typer.Option(
+            "--split",
+            help="Descriptions to score: holdout, published (RefAV's wording, held out), dev or all.",
+        ),
     ] = "holdout",
     limit: Annotated[
         int | None, typer.Option("--limit", min=0, help="Score at most N descriptions (in set order).")

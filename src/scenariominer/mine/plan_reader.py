@@ -49,7 +49,7 @@ _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"trams?|streetcars?|trains?|trolleys?|railed vehicles?", ("RAILED_VEHICLE",)),
     (r"cars?|sedans?|suvs?|vans?|pickups?|passenger vehicles?|regular vehicles?", ("REGULAR_VEHICLE",)),
     (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
-    (r"(?:motor )?vehicles?|traffic", ("VEHICLE",)),
+    (r"(?:motor )?vehicles?", ("VEHICLE",)),
     (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
     (r"wheelchair users?|wheelchairs?", ("WHEELCHAIR",)),
     (r"strollers?|prams?|pushchairs?", ("STROLLER",)),
@@ -62,6 +62,8 @@ _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"stop signs?", ("STOP_SIGN",)),
     (r"signs?", ("SIGN",)),
     (r"objects?|things?|anything|everything|road users?|actors?|agents?", ("ANY",)),
+    # last: "traffic" begins other road users' names ("traffic cone", "traffic officer")
+    (r"traffic", ("VEHICLE",)),
 )
 
 #: A speed condition for "moving" and for the riding/walking verbs (the predicate's default).
@@ -240,9 +242,13 @@ _NOT = r"(?P<neg>not |without )?"
 _QUANTITY = r"(?:(?P<multi>multiple|several|many) |(?:at least )?(?P<qty>\d+) (?:or more )?)?"
 #: The keyword that takes that count, per relation function.
 _COUNT_KEYWORD = {"has_objects_in_relative_direction": "min_number", "near_objects": "min_objects"}
-_ACCEL = r"(?P<accel>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
+_ACCEL = (
+    r"(?P<accel>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
+)
 _NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
-_IN_LANE = r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking)) (?:a |the )?"
+_IN_LANE = (
+    r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking)) (?:a |the )?"
+)
 _ON_X = "on_intersection"
 _SPEEDING_UP = ("accelerating", "min_accel=1.0")
 _TURNING = ("turning", "direction='{dir}'")
@@ -278,7 +284,8 @@ _PHRASES: tuple[_Phrase, ...] = (
         "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
     ),
     _Phrase(
-        r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) " + _DIST + "(?: away)?",
+        r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) "
+        + _DIST + "(?: away)?",
         "facing_toward", "within_angle=30, max_distance={dist}",
     ),
     _Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
@@ -312,9 +319,11 @@ _PHRASES: tuple[_Phrase, ...] = (
             "in_direction='clockwise', forward_thresh=4", "left"),
     _Phrase(r"being (?:overtaken|passed) by {obj} on the right", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
-    _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj} in (?:the )?same lane",
+    _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj}"
+            r" in (?:the )?same lane",
             "following"),
-    _Phrase(r"(?:following|tailgating|(?:following |driving |riding |travell?ing )?closely behind|driving behind) {obj}"
+    _Phrase(r"(?:following|tailgating|(?:following |driving |riding |travell?ing )?closely behind"
+            r"|driving behind) {obj}"
             r"(?: too closely| closely)?", "following"),
     _Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
     _Phrase(r"(?:in (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
@@ -347,7 +356,8 @@ _PHRASES: tuple[_Phrase, ...] = (
         "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
     ),
     _Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
+        _HAVE + r" " + _QUANTITY
+        + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
         "has_objects_in_relative_direction", _BESIDE, "{dir}",
     ),
     _Phrase(_HAVE + r" " + _QUANTITY + r"{obj} (?:right |directly |just )?behind(?: them| it)?",
@@ -473,7 +483,9 @@ def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
     if "obj" in groups or phrase.to_subject:
         other = groups.get("obj", reading.subject_words)
         for direction in phrase.sides or (phrase.direction.format(**groups) if phrase.direction else None,):
-            reading.relate(phrase.function, other, direction=direction, argument=argument, reverse=phrase.reverse)
+            reading.relate(
+                phrase.function, other, direction=direction, argument=argument, reverse=phrase.reverse
+            )
     else:
         reading.condition(phrase.function, argument, negated="neg" in groups)
 
