@@ -11,9 +11,10 @@ accounted for (a phrase of the tables below, or a filler such as "that are"); an
 know makes it return ``None`` and the model reads the description instead. It never guesses.
 
 The tables map English phrasing to the predicates, with the settings the predicates' docstrings
-and the evaluation set's dev part use for each phrase (``scenariominer.eval.nl2prog``: written from
-the dev split and the example bank only; the hold-out split scores it). Units are converted (km/h,
-mph to m/s).
+and the evaluation set's dev part use for each phrase (``scenariominer.eval.nl2prog``). They were
+written from the dev split, the example bank and (``plan-reader/3``) the 152 published RefAV
+descriptions outside the ``published`` sample; the ``holdout`` and ``published`` splits score them.
+Units are converted (km/h, mph, "meters per second" to m/s).
 """
 
 from __future__ import annotations

@@ -170,10 +170,6 @@ class ScenarioStore:
             if con.execute("SELECT count(*) FROM sqlite_master WHERE name = 'log_tables'").fetchone()[0] == 0:
                 # One transaction, so a writer opening the store meanwhile never sees half a schema.
                 con.executescript(f"BEGIN IMMEDIATE;{_CATALOG_SCHEMA}COMMIT;")
-                # Write-ahead log: a commit syncs one file instead of journal, catalog and folder
-                # (ingest commits per source; 3.3 -> 0.9 ms a transaction), and readers (the server)
-                # are not blocked by a writer. Still synchronous=FULL: a commit is on disk when it returns.
-                con.execute("PRAGMA journal_mode=WAL")
 
     @classmethod
     def open(cls, root: str | Path, *, create: bool = True) -> ScenarioStore:
