@@ -62,6 +62,14 @@ def _referred(description: str) -> set[str]:
         ("cars overtaking the ego vehicle", {"overtaker"}),  # passes along the ego's left at t = 4 s
         ("the ego vehicle being overtaken by a car", {"ego"}),
         ("the ego vehicle being overtaken on the right by a car", set()),
+        # either side: the relation on the left or on the right
+        ("cars to either side of the ego vehicle", {"overtaker", "parked", "oncoming"}),
+        ("cars within 5 meters to either side of the ego vehicle", {"overtaker"}),  # the others: 7.2 m
+        ("the ego vehicle with a bike on either side", {"ego"}),
+        # a group: members with enough others of the group close by (pedA and pedB stand 1 m apart)
+        ("groups of 2 pedestrians", {"pedA", "pedB"}),
+        ("a group of people", set()),  # of three, by default
+        ("pedestrians within 3 meters of each other", {"pedA", "pedB"}),
         ("vehicles in the same lane as the ego car", {"lead", "changer"}),
         ("vehicles on the other side of the road from the ego", {"oncoming", "parked"}),
     ],

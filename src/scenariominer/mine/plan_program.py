@@ -41,7 +41,7 @@ from typing import Any
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/4"
+PLAN_PROGRAM_VERSION = "plan-program/5"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -112,7 +112,14 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     objects = _related_objects(plan, lines)
     for rel in plan.get("relations", []):
         step += 1
-        lines.append(f"step_{step} = {_relation_call(rel, current, objects, plan, notes)}")
+        sides = rel.get("any_direction") or ()
+        if sides:  # "on either side": the relation in any of the directions (phrase rules only)
+            calls = [
+                _relation_call({**rel, "direction": side}, current, objects, plan, notes) for side in sides
+            ]
+            lines.append(f"step_{step} = scenario_or([{', '.join(calls)}])")
+        else:
+            lines.append(f"step_{step} = {_relation_call(rel, current, objects, plan, notes)}")
         current = f"step_{step}"
     lines.append(f"output_scenario({current}, description, log_dir, output_dir)")
     return CompiledPlan("\n".join(lines) + "\n", tuple(notes))

@@ -12,7 +12,7 @@ know makes it return ``None`` and the model reads the description instead. It ne
 
 The tables map English phrasing to the predicates, with the settings the predicates' docstrings
 and the evaluation set's dev part use for each phrase (``scenariominer.eval.nl2prog``). They were
-written from the dev split, the example bank and (``plan-reader/3``) the 152 published RefAV
+written from the dev split, the example bank and (from ``plan-reader/3``) the 152 published RefAV
 descriptions outside the ``published`` sample; the ``holdout`` and ``published`` splits score them.
 Units are converted (km/h, mph, "meters per second" to m/s).
 """
@@ -26,7 +26,7 @@ from typing import Any
 __all__ = ["PLAN_READER_VERSION", "read_plan"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/3"
+PLAN_READER_VERSION = "plan-reader/4"
 
 #: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
 _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -105,6 +105,7 @@ class _Reading:
     """The plan being assembled while phrases are consumed."""
 
     subject_words: str = ""
+    subject_phrase: str = ""  # with its adjectives ("moving cyclists"): the subject as other road users
     subject: tuple[str, ...] = ()
     conditions: list[dict[str, Any]] = field(default_factory=list)
     related: list[dict[str, Any]] = field(default_factory=list)
@@ -121,19 +122,21 @@ class _Reading:
         direction: str | None = None,
         argument: str | None = None,
         reverse: bool = False,
+        any_direction: tuple[str, ...] = (),
     ) -> None:
         """A relation of the subject to the road users ``other`` (read by :func:`_object`)."""
         words = self._object(other)
         subject_words, other_words = (words, self.subject_words) if reverse else (self.subject_words, words)
-        self.relations.append(
-            {
-                "subject_words": subject_words,
-                "function": function,
-                "other_words": other_words,
-                "direction": direction,
-                "argument": argument,
-            }
-        )
+        relation: dict[str, Any] = {
+            "subject_words": subject_words,
+            "function": function,
+            "other_words": other_words,
+            "direction": direction,
+            "argument": argument,
+        }
+        if any_direction:
+            relation["any_direction"] = list(any_direction)
+        self.relations.append(relation)
 
     def _object(self, phrase: str) -> str:
         """Register the road users of ``phrase`` ("a moving vehicle") as a related object; its words."""
@@ -229,6 +232,7 @@ class _Phrase:
     reverse: bool = False  # the other road users do it to the subject ("crossing in front of X")
     to_subject: bool = False  # a relation among the subject's own members ("close together")
     sides: tuple[str, ...] = ()  # one relation per direction, all required ("on both sides")
+    any_side: bool = False  # with ``sides``: one relation holding in any of them ("on either side")
 
 
 _NUMBER = r"\d+(?:\.\d+)?"
@@ -288,6 +292,14 @@ _PHRASES: tuple[_Phrase, ...] = (
         r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) "
         + _DIST + "(?: away)?",
         "facing_toward", "within_angle=30, max_distance={dist}",
+    ),
+    _Phrase(
+        r"within " + _DIST + r" (?:on|to) either side of {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}", sides=("left", "right"), any_side=True,
+    ),
+    _Phrase(
+        r"within " + _DIST + r" of (?:each other|one another)",
+        "near_objects", "distance_thresh={dist}", to_subject=True,
     ),
     _Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
     _Phrase(r"accelerating (?:at )?(?:more than|over|faster than|above|at least) " + _ACCEL,
@@ -361,6 +373,10 @@ _PHRASES: tuple[_Phrase, ...] = (
         + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
         "has_objects_in_relative_direction", _BESIDE, "{dir}",
     ),
+    _Phrase(
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )either side",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"), any_side=True,
+    ),
     _Phrase(_HAVE + r" " + _QUANTITY + r"{obj} (?:right |directly |just )?behind(?: them| it)?",
             "has_objects_in_relative_direction",
             _ALONG, "backward"),
@@ -374,6 +390,10 @@ _PHRASES: tuple[_Phrase, ...] = (
     ),
     _Phrase(r"(?:behind|in back of) {obj}", "get_objects_in_relative_direction", _ALONG, "backward"),
     _Phrase(r"(?:ahead of|in front of) {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
+    _Phrase(
+        r"(?:directly |immediately )?(?:to|on) either side of {obj}",
+        "get_objects_in_relative_direction", "within_distance=10", sides=("left", "right"), any_side=True,
+    ),
     _Phrase(
         r"(?:directly |immediately )?(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
         "get_objects_in_relative_direction", "within_distance=10", "{dir}",
@@ -482,13 +502,40 @@ def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
         count = 2 if "multi" in groups else int(groups["qty"])
         argument = ", ".join(a for a in (argument, f"{_COUNT_KEYWORD[phrase.function]}={count}") if a)
     if "obj" in groups or phrase.to_subject:
-        other = groups.get("obj", reading.subject_words)
+        other = groups.get("obj", reading.subject_phrase or reading.subject_words)
+        if phrase.any_side:
+            reading.relate(phrase.function, other, argument=argument, any_direction=phrase.sides)
+            return
         for direction in phrase.sides or (phrase.direction.format(**groups) if phrase.direction else None,):
             reading.relate(
                 phrase.function, other, direction=direction, argument=argument, reverse=phrase.reverse
             )
     else:
         reading.condition(phrase.function, argument, negated="neg" in groups)
+
+
+#: "a group of (at least N) X": the subject is each member of such a group.
+_GROUP = re.compile(r"^\s*(?:an? |the )?groups? of (?:(?:at least )?(?P<size>\d+)(?: or more)? )?")
+#: The size of "a group" with no number, and how close its members stand (the dev split's
+#: "groups of three or more pedestrians": at least two others within 2 m).
+_GROUP_SIZE = 3
+_GROUP_DISTANCE = "distance_thresh=2"
+
+
+def _as_group(reading: _Reading, size: int) -> None:
+    """Keep the subject's members that have at least ``size - 1`` others of it close by.
+
+    "within 5 meters of each other" sets how close; otherwise :data:`_GROUP_DISTANCE`.
+    """
+    if size < 2:
+        raise _Unread(f"a group of {size}")
+    count = f"min_objects={size - 1}"
+    members = " ".join(reading.subject_phrase.split())
+    for rel in reading.relations:
+        if rel["function"] == "near_objects" and rel["other_words"] == members:
+            rel["argument"] = ", ".join(a for a in (rel["argument"], count) if a)
+            return
+    reading.relate("near_objects", members, argument=f"{_GROUP_DISTANCE}, {count}")
 
 
 def read_plan(description: str) -> dict[str, Any] | None:
@@ -499,11 +546,18 @@ def read_plan(description: str) -> dict[str, Any] | None:
     carry its own conditions ("a *moving* vehicle"), which the model's plans never do.
     """
     text = _normalised_text(description)
+    group = _GROUP.match(text)
+    if group is not None:  # "a group of (at least) 3 pedestrians": the pedestrians read as a group
+        text = text[group.end() :]
     subject = _SUBJECT.match(text)
     if subject is None:
         return None
     try:
-        reading = _Reading(subject_words=subject.group("noun"), subject=_categories(subject.group("noun")))
+        reading = _Reading(
+            subject_words=subject.group("noun"),
+            subject_phrase=(subject.group("mods") or "") + subject.group("noun"),
+            subject=_categories(subject.group("noun")),
+        )
         reading.conditions.extend(_modifier_conditions(subject.group("mods")))
         rest = " " + text[subject.end() :] + " "
         if re.search(r"\S.*\b(?:who|which|that)\b", rest):
@@ -514,6 +568,8 @@ def read_plan(description: str) -> dict[str, Any] | None:
             while (found := pattern.search(rest)) is not None:
                 _apply(phrase, reading, found)
                 rest = rest[: found.start()] + " , " + rest[found.end() :]
+        if group is not None:
+            _as_group(reading, int(group.group("size") or _GROUP_SIZE))
     except _Unread:
         return None
     if any(word not in _FILLERS for word in re.findall(r"[\w'/.-]+", rest)):
