@@ -79,8 +79,28 @@ def test_settings_the_function_does_not_take_are_left_out_with_a_note() -> None:
     compiled = compile_plan(_plan("VEHICLE", conditions=[_cond("stationary", "speed=3")]))
     assert "speed" not in compiled.program
     assert compiled.notes == ("stationary: left out 'speed=3' (speed is not an argument of stationary)",)
-    near = compile_plan(_plan("BUS", conditions=[_cond("near_intersection", "threshold=15")]))
+    near = compile_plan(_plan("BOX_TRUCK", conditions=[_cond("near_intersection", "threshold=15")]))
     assert "near_intersection(subject, log_dir, threshold=15)" in near.program and not near.notes
+
+
+@pytest.mark.parametrize(
+    ("words", "planned", "expected"),
+    [
+        (
+            "regular vehicles",
+            "VEHICLE",
+            "subject = get_objects_of_category(log_dir, category='REGULAR_VEHICLE')",
+        ),
+        ("vehicles", "REGULAR_VEHICLE", "subject = get_objects_of_category(log_dir, category='VEHICLE')"),
+        ("buses", "BUS", "category='ARTICULATED_BUS'"),
+        ("the ego car", "VEHICLE", "subject = get_objects_of_category(log_dir, category='EGO_VEHICLE')"),
+    ],
+)
+def test_the_subjects_words_decide_its_categories_as_the_phrase_rules_read_them(
+    words: str, planned: str, expected: str
+) -> None:
+    plan = {**_plan(planned), "subject_words": words}
+    assert expected in compile_plan(plan).program
 
 
 @pytest.mark.parametrize(
@@ -203,7 +223,10 @@ def test_a_part_of_the_map_planned_as_an_object_becomes_its_condition() -> None:
     compiled = compile_plan(plan)
     assert "LARGE_VEHICLE" not in compiled.program and "has_objects" not in compiled.program
     assert "on_lane_type(subject, log_dir, lane_type='BIKE')" in compiled.program
-    assert compiled.notes == ("on_lane_type: 'bike lane' is a part of the map, tested as a condition",)
+    assert compiled.notes == (
+        "on_lane_type: 'bike lane' is a part of the map, tested as a condition",
+        "subject: BUS, ARTICULATED_BUS, SCHOOL_BUS for 'bus', not BUS",  # "bus": every bus category
+    )
     assert _referred(plan) == {idx(SCENE, "bus")}
     sidewalk = _plan("PEDESTRIAN", related=[{"words": "the sidewalk", "category": "PEDESTRIAN"}])
     with pytest.raises(PlanCompileError, match="'the sidewalk' is a part of the map"):

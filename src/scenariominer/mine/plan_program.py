@@ -22,7 +22,9 @@ direction as an object (rules in :func:`_normalised`, each leaving a note):
   itself ("vehicles ... *vehicles*") is a misreading: it is dropped when its direction is already
   given to a condition or can be given to one that takes it (``turning``, ``changing_lanes``);
 * adjectives of the subject that name a state ("parked", "stopped") add its condition
-  (``stationary``), and "vehicle(s)" selects the VEHICLE group whatever member was planned.
+  (``stationary``), and the subject's words decide its categories as the phrase rules read
+  them (:func:`~scenariominer.mine.plan_reader.subject_categories`: "vehicles" the VEHICLE group,
+  "regular vehicles" REGULAR_VEHICLE, "buses" every bus category), whatever was planned.
 
 A plan the rules cannot use faithfully (a relation whose other object is not among the planned
 objects, a required setting missing, a value outside its choices) gives no program but a
@@ -38,10 +40,12 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from scenariominer.mine.plan_reader import subject_categories
+
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/5"
+PLAN_PROGRAM_VERSION = "plan-program/6"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -155,10 +159,14 @@ def _normalised(plan: Mapping[str, Any], notes: list[str]) -> dict[str, Any]:
             conditions.insert(0, {"function": function, "negated": False, "argument": None})
             notes.append(f"{function}: added for {found.group(0)!r}")
     category = plan.get("subject_category")
-    if re.search(r"\bvehicles?$", _norm(subject_words)) and not _EGO_WORDS.search(subject_words):
-        if category != "VEHICLE":
-            notes.append(f"subject: VEHICLE (all vehicles) for {subject_words!r}, not {category}")
-        category = "VEHICLE"
+    read = subject_categories(subject_words)
+    if read and not _EGO_WORDS.search(subject_words):
+        # the subject's words name its categories the way the phrase rules read them ("vehicles":
+        # the VEHICLE group, "regular vehicles": REGULAR_VEHICLE, "buses": every bus category)
+        chosen = _one_or_list(read)
+        if chosen != category:
+            notes.append(f"subject: {', '.join(read)} for {subject_words!r}, not {category}")
+        category = chosen
     return {
         **plan,
         "subject_category": category,
@@ -301,6 +309,10 @@ def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str
             lines.append(f"{var} = {_condition_call(cond, var, [])}")
         objects[str(obj.get("words", "")).strip().lower()] = var
     return objects
+
+
+def _one_or_list(categories: tuple[str, ...]) -> str | list[str]:
+    return categories[0] if len(categories) == 1 else list(categories)
 
 
 def _category(words: Any, category: Any) -> str | list[str]:

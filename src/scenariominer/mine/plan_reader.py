@@ -23,7 +23,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["PLAN_READER_VERSION", "read_plan"]
+__all__ = ["PLAN_READER_VERSION", "read_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
 PLAN_READER_VERSION = "plan-reader/4"
@@ -583,6 +583,20 @@ def read_plan(description: str) -> dict[str, Any] | None:
         "numbers": [],
         "read_by": "rules",
     }
+
+
+def subject_categories(words: str) -> tuple[str, ...] | None:
+    """The categories of the road-user phrase ``words`` begins with ("regular vehicles ..." ->
+    REGULAR_VEHICLE; "buses" -> the three bus categories), or ``None`` when it begins with none."""
+    text = _normalised_text(words)
+    group = _GROUP.match(text)
+    subject = _SUBJECT.match(text[group.end() :] if group else text)
+    if subject is None:
+        return None
+    try:
+        return _categories(subject.group("noun"))
+    except _Unread:
+        return None
 
 
 def _normalised_text(description: str) -> str:
