@@ -586,8 +586,10 @@ def read_plan(description: str) -> dict[str, Any] | None:
 
 
 def subject_categories(words: str) -> tuple[str, ...] | None:
-    """The categories of the road-user phrase ``words`` begins with ("regular vehicles ..." ->
-    REGULAR_VEHICLE; "buses" -> the three bus categories), or ``None`` when it begins with none."""
+    """The categories of the road-user phrase ``words`` begins with, or ``None`` if none.
+
+    "regular vehicles ..." is REGULAR_VEHICLE, "buses" the three bus categories.
+    """
     text = _normalised_text(words)
     group = _GROUP.match(text)
     subject = _SUBJECT.match(text[group.end() :] if group else text)
