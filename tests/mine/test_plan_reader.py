@@ -70,6 +70,10 @@ def _referred(description: str) -> set[str]:
         ("groups of 2 pedestrians", {"pedA", "pedB"}),
         ("a group of people", set()),  # of three, by default
         ("pedestrians within 3 meters of each other", {"pedA", "pedB"}),
+        # between: one on the subject's left and one on its right (the overtaker passes on the
+        # ego's left while the bike rides on its right; the bike is no VEHICLE)
+        ("the ego vehicle between two road users", {"ego"}),
+        ("the ego vehicle between two vehicles", set()),
         ("vehicles in the same lane as the ego car", {"lead", "changer"}),
         ("vehicles on the other side of the road from the ego", {"oncoming", "parked"}),
     ],
@@ -87,7 +91,7 @@ def test_a_read_description_finds_the_objects_it_describes(description: str, exp
         "pedestrian in front of a bicyclist who is to the left of a vehicle",
         "vehicles with a bike that is to their right",
         "vehicles in the wrong lane",  # "in the ... lane" is known, "wrong" is not
-        "pedestrians squeezing between parked vehicles",
+        "vehicles weaving through traffic",
         "oncoming traffic",
     ],
 )

@@ -26,7 +26,7 @@ from typing import Any
 __all__ = ["PLAN_READER_VERSION", "read_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/4"
+PLAN_READER_VERSION = "plan-reader/5"
 
 #: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
 _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -366,6 +366,12 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(
         r"(?:boxed|hemmed|squeezed) in by {obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
         r"|on both (?:their |its )?sides)",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
+    ),
+    # "between two parked cars": one on the subject's left and one on its right, relative to the
+    # subject's own heading (a pedestrian crossing through a gap has the cars to its sides)
+    _Phrase(
+        r"(?:passing |crossing |walking |riding |driving |squeezing )?(?:in )?between (?:2 )?{obj}",
         "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
     ),
     _Phrase(
