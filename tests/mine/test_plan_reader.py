@@ -115,6 +115,12 @@ def test_a_longer_road_user_name_wins_over_a_shorter_one_it_begins_with() -> Non
     assert "category='WHEELCHAIR'" in _program("wheelchair users on a crosswalk")
 
 
+def test_the_plan_shown_to_the_user_names_either_side() -> None:
+    plan = read_plan("cars to either side of the ego vehicle")
+    assert plan is not None
+    assert "direction='left' or 'right'" in plan_text(plan)
+
+
 def test_a_relation_on_both_sides_needs_each_side() -> None:
     program = _program("the ego vehicle with vehicles on both sides")
     assert "direction='left'" in program and "direction='right'" in program

@@ -130,6 +130,8 @@ def plan_text(plan: dict[str, Any]) -> str:
         lines.append(f"- other objects: {obj['words']} -> category {_categories_text(obj['category'])}{own}")
     for rel in plan.get("relations", []):
         settings = f", direction={rel['direction']!r}" if rel.get("direction") else ""
+        if rel.get("any_direction"):  # "on either side": the relation in any of these directions
+            settings += f", direction={' or '.join(repr(d) for d in rel['any_direction'])}"
         settings += f", {rel['argument']}" if rel.get("argument") else ""
         lines.append(f"- relation: {rel['function']}({rel['subject_words']}, {rel['other_words']}{settings})")
     for cond in plan.get("conditions", []):
