@@ -132,9 +132,11 @@ def test_overtaking_is_a_crossing_of_the_other_road_users_side_from_behind() -> 
     program = _program("motorcycle overtaking a vehicle")
     assert "reverse_relationship(being_crossed_by)(related_1, subject, log_dir, direction='left'" in program
     assert "in_direction='clockwise'" in program
-    assert "direction='right', in_direction='counterclockwise'" in _program(
-        "vehicles being overtaken on the right by a bicycle"
-    )
+    for description in (
+        "vehicles being overtaken on the right by a bicycle",
+        "vehicles being passed by a bike on the right",
+    ):
+        assert "direction='right', in_direction='counterclockwise'" in _program(description)
 
 
 def test_stated_numbers_are_read_with_their_units() -> None:

@@ -328,10 +328,10 @@ _PHRASES: tuple[_Phrase, ...] = (
             "in_direction='clockwise', forward_thresh=4", "left", reverse=True),
     _Phrase(r"being (?:overtaken|passed) on the right by {obj}", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
-    _Phrase(r"being (?:overtaken|passed) (?:on the left )?by {obj}(?: on the left)?", "being_crossed_by",
-            "in_direction='clockwise', forward_thresh=4", "left"),
     _Phrase(r"being (?:overtaken|passed) by {obj} on the right", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
+    _Phrase(r"being (?:overtaken|passed) (?:on the left )?by {obj}(?: on the left)?", "being_crossed_by",
+            "in_direction='clockwise', forward_thresh=4", "left"),
     _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj}"
             r" in (?:the )?same lane",
             "following"),
