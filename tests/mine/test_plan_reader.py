@@ -254,3 +254,20 @@ def test_when_the_read_plans_program_fails_the_model_writes_one_from_the_full_re
     assert first.index == 0 and first.error is not None  # the rules' program, failed
     assert second.index == 1 and second.error is None and report.ok
     assert len(backend.requests) == 1  # no plan call (the rules read it), one program request
+
+
+_PUBLISHED_DEV = Path(__file__).parent / "data" / "refav_published_dev.txt"
+
+
+def test_the_published_dev_descriptions_are_read_and_every_read_plan_runs() -> None:
+    descriptions = [
+        line.strip()
+        for line in _PUBLISHED_DEV.read_text().splitlines()
+        if line.strip() and not line.startswith("#")
+    ]
+    assert len(descriptions) == 152
+    read = {d: plan for d in descriptions if (plan := read_plan(d)) is not None}
+    assert len(read) >= 85  # 88 with plan-reader/5; 34 with plan-reader/2
+    for description, plan in read.items():
+        result = run_trusted_program(compile_plan(plan).program, SCENE, description=description)
+        assert result.ok, (description, result.error)
