@@ -40,7 +40,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from scenariominer.mine.plan_reader import subject_categories
+from scenariominer.mine.plan_reader import one_or_many, subject_categories
 
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
@@ -116,14 +116,7 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     objects = _related_objects(plan, lines)
     for rel in plan.get("relations", []):
         step += 1
-        sides = rel.get("any_direction") or ()
-        if sides:  # "on either side": the relation in any of the directions (phrase rules only)
-            calls = [
-                _relation_call({**rel, "direction": side}, current, objects, plan, notes) for side in sides
-            ]
-            lines.append(f"step_{step} = scenario_or([{', '.join(calls)}])")
-        else:
-            lines.append(f"step_{step} = {_relation_call(rel, current, objects, plan, notes)}")
+        lines.append(f"step_{step} = {_relation_call(rel, current, objects, plan, notes)}")
         current = f"step_{step}"
     lines.append(f"output_scenario({current}, description, log_dir, output_dir)")
     return CompiledPlan("\n".join(lines) + "\n", tuple(notes))
@@ -163,7 +156,7 @@ def _normalised(plan: Mapping[str, Any], notes: list[str]) -> dict[str, Any]:
     if read and not _EGO_WORDS.search(subject_words):
         # the subject's words name its categories the way the phrase rules read them ("vehicles":
         # the VEHICLE group, "regular vehicles": REGULAR_VEHICLE, "buses": every bus category)
-        chosen = _one_or_list(read)
+        chosen = one_or_many(read)
         if chosen != category:
             notes.append(f"subject: {', '.join(read)} for {subject_words!r}, not {category}")
         category = chosen
@@ -241,9 +234,18 @@ def _relation_call(
     plan: Mapping[str, Any],
     notes: list[str],
 ) -> str:
-    """The call that filters ``current`` (the subject so far) by one planned relation."""
+    """The call that filters ``current`` (the subject so far) by one planned relation.
+
+    A relation in any of several directions ("on either side", phrase rules only) is the
+    ``scenario_or`` of the relation in each.
+    """
     from scenariominer.mine.dsl import DSL_FUNCTIONS
 
+    sides = rel.get("any_direction")
+    if sides:
+        one = {k: v for k, v in rel.items() if k != "any_direction"}
+        calls = [_relation_call({**one, "direction": side}, current, objects, plan, notes) for side in sides]
+        return f"scenario_or([{', '.join(calls)}])"
     name = str(rel.get("function", ""))
     func = DSL_FUNCTIONS.get(name)
     if func is None:
@@ -309,10 +311,6 @@ def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str
             lines.append(f"{var} = {_condition_call(cond, var, [])}")
         objects[str(obj.get("words", "")).strip().lower()] = var
     return objects
-
-
-def _one_or_list(categories: tuple[str, ...]) -> str | list[str]:
-    return categories[0] if len(categories) == 1 else list(categories)
 
 
 def _category(words: Any, category: Any) -> str | list[str]:

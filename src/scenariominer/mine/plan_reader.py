@@ -23,7 +23,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["PLAN_READER_VERSION", "read_plan", "subject_categories"]
+__all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
 PLAN_READER_VERSION = "plan-reader/5"
@@ -150,7 +150,7 @@ class _Reading:
             words = " ".join(phrase.split())
         if all(obj["words"] != words for obj in self.related):
             conditions = _modifier_conditions(found.group("mods"))
-            category = _one_or_many(categories)
+            category = one_or_many(categories)
             self.related.append({"words": words, "category": category, "conditions": conditions})
         return words
 
@@ -197,7 +197,8 @@ def _categories(noun: str) -> tuple[str, ...]:
     return tuple(found)
 
 
-def _one_or_many(categories: tuple[str, ...]) -> str | list[str]:
+def one_or_many(categories: tuple[str, ...]) -> str | list[str]:
+    """A plan's category value: one name, or the list of several (a union)."""
     return categories[0] if len(categories) == 1 else list(categories)
 
 
@@ -551,11 +552,7 @@ def read_plan(description: str) -> dict[str, Any] | None:
     "rules"``; a category may be a list (the union of several, "buses"), and a related object may
     carry its own conditions ("a *moving* vehicle"), which the model's plans never do.
     """
-    text = _normalised_text(description)
-    group = _GROUP.match(text)
-    if group is not None:  # "a group of (at least) 3 pedestrians": the pedestrians read as a group
-        text = text[group.end() :]
-    subject = _SUBJECT.match(text)
+    group, subject, text = _leading_subject(description)
     if subject is None:
         return None
     try:
@@ -582,7 +579,7 @@ def read_plan(description: str) -> dict[str, Any] | None:
         return None
     return {
         "subject_words": reading.subject_words,
-        "subject_category": _one_or_many(reading.subject),
+        "subject_category": one_or_many(reading.subject),
         "related": reading.related,
         "relations": reading.relations,
         "conditions": reading.conditions,
@@ -596,15 +593,26 @@ def subject_categories(words: str) -> tuple[str, ...] | None:
 
     "regular vehicles ..." is REGULAR_VEHICLE, "buses" the three bus categories.
     """
-    text = _normalised_text(words)
-    group = _GROUP.match(text)
-    subject = _SUBJECT.match(text[group.end() :] if group else text)
+    _, subject, _ = _leading_subject(words)
     if subject is None:
         return None
     try:
         return _categories(subject.group("noun"))
     except _Unread:
         return None
+
+
+def _leading_subject(description: str) -> tuple[re.Match[str] | None, re.Match[str] | None, str]:
+    """The "a group of N" prefix, the road-user phrase after it, and the normalised text they match.
+
+    The subject match runs on the text after the group prefix ("a group of 3 pedestrians": the
+    pedestrians read as a group); each match is ``None`` when absent.
+    """
+    text = _normalised_text(description)
+    group = _GROUP.match(text)
+    if group is not None:
+        text = text[group.end() :]
+    return group, _SUBJECT.match(text), text
 
 
 def _normalised_text(description: str) -> str:
