@@ -5,6 +5,7 @@ No language model runs here: candidate programs come from scripted providers.
 
 from __future__ import annotations
 
+import itertools
 import json
 import re
 from collections.abc import Callable
@@ -20,6 +21,8 @@ from scenariominer.config import Config
 from scenariominer.errors import LLMError
 from scenariominer.eval.nl2prog import (
     FAMILIES,
+    HELD_OUT_SPLITS,
+    SPLITS,
     BankOnlySelector,
     EvalEntry,
     EvalSetError,
@@ -43,6 +46,13 @@ runner = CliRunner()
 
 ENTRIES = load_eval_set()
 
+#: The dev material of the phrase rules (tests/mine/data): other people's descriptions outside
+#: the held-out ``published`` and ``challenge`` samples.
+DEV_MATERIAL = Path(__file__).resolve().parents[1] / "mine" / "data"
+SECOND_LOG = (
+    Path(__file__).resolve().parents[1] / "real_data" / "av2" / "adcf7d18-0510-35b0-a2fa-b4cea13a6d76"
+)
+
 
 def _trusted(program: str, ctx: LogContext, description: str) -> ProgramResult:
     return run_trusted_program(program, ctx, description=description)
@@ -61,10 +71,13 @@ def shared_log(av2_log_dir: Path) -> LogContext:
 
 
 def test_the_set_loads_with_enough_entries_in_every_split() -> None:
-    dev, holdout, published = load_eval_set("dev"), load_eval_set("holdout"), load_eval_set("published")
-    assert len(dev) + len(holdout) >= 60 and len(dev) + len(holdout) + len(published) == len(ENTRIES)
+    dev, holdout = load_eval_set("dev"), load_eval_set("holdout")
+    published, challenge = load_eval_set("published"), load_eval_set("challenge")
+    assert len(dev) + len(holdout) >= 60
+    assert len(dev) + len(holdout) + len(published) + len(challenge) == len(ENTRIES)
     assert 0.28 <= len(holdout) / (len(dev) + len(holdout)) <= 0.4  # about a third of our own wording
-    assert len(published) >= 30
+    assert len(published) >= 30 and len(challenge) >= 30
+    assert set(HELD_OUT_SPLITS) == set(SPLITS) - {"dev"}
     assert all(e.program.rstrip().splitlines()[-1].startswith("output_scenario(") for e in ENTRIES)
     assert load_eval_set("all") == ENTRIES
 
@@ -85,9 +98,7 @@ def test_the_category_groups_and_many_categories_are_asked_for() -> None:
     assert len(used - {"VEHICLE", "VULNERABLE_ROAD_USER", "ANY"}) >= 25
 
 
-@pytest.mark.parametrize(
-    ("one", "other"), [("dev", "holdout"), ("dev", "published"), ("holdout", "published")]
-)
+@pytest.mark.parametrize(("one", "other"), list(itertools.combinations(SPLITS, 2)))
 def test_the_splits_are_disjoint(one: str, other: str) -> None:
     first, second = load_eval_set(one), load_eval_set(other)
     assert not {normalize_description(e.description) for e in first} & {
@@ -102,12 +113,32 @@ def test_no_holdout_description_is_in_the_bank_or_near_one() -> None:
     bank = load_examples()
     bank_text = {normalize_description(e.description) for e in bank}
     bank_keys = {description_key(e.description) for e in bank}
-    for e in (*load_eval_set("holdout"), *load_eval_set("published")):
+    for e in (e for e in ENTRIES if e.split in HELD_OUT_SPLITS):
         assert normalize_description(e.description) not in bank_text, e.description
         assert description_key(e.description) not in bank_keys, e.description
         assert similar_bank_entries(e.description, bank) == [], e.description
     # nor is any description of the set copied into the bank
     assert not {normalize_description(e.description) for e in ENTRIES} & bank_text
+
+
+def _dev_material(name: str) -> list[str]:
+    lines = (DEV_MATERIAL / name).read_text(encoding="utf-8").splitlines()
+    return [line.strip() for line in lines if line.strip() and not line.startswith("#")]
+
+
+@pytest.mark.parametrize("dev_file", ["refav_published_dev.txt", "challenge_dev.txt"])
+def test_no_challenge_description_is_near_the_dev_material(dev_file: str) -> None:
+    dev = _dev_material(dev_file)
+    assert len(dev) >= 25
+    dev_keys = [set(description_key(d).split()) for d in dev]
+    for e in load_eval_set("challenge"):
+        mine = set(description_key(e.description).split())
+        near = [
+            d
+            for d, theirs in zip(dev, dev_keys, strict=True)
+            if len(mine & theirs) / len(mine | theirs) >= 0.6
+        ]
+        assert near == [], (e.description, near)
 
 
 def test_the_selector_never_shows_hidden_descriptions_and_can_drop_the_most_similar() -> None:
@@ -150,13 +181,31 @@ def test_every_reference_runs_on_the_shared_log_and_most_find_something(shared_l
         result = run_trusted_program(e.program, shared_log, description=e.description)
         assert result.error is None and result.scenario is not None, (e.description, result.error)
         found[e.description] = result.scenario.n_referred_cells > 0
-    ours = [e.description for e in ENTRIES if e.split != "published"]
+    ours = [e.description for e in ENTRIES if e.split in ("dev", "holdout")]
     assert sum(found[d] for d in ours) >= len(ours) / 2
     holdout = [e.description for e in load_eval_set("holdout")]
     assert sum(found[d] for d in holdout) >= len(holdout) / 2
     # the published sample was drawn blind to our logs: a 15 s log holds a part of its scenes only
     published = [e.description for e in load_eval_set("published")]
     assert sum(found[d] for d in published) >= len(published) / 4
+    # so was the challenge sample, picked from a list of rare scenes: most name road users or
+    # objects the shared log does not have
+    challenge = [e.description for e in load_eval_set("challenge")]
+    assert sum(found[d] for d in challenge) >= 1
+
+
+def test_every_reference_runs_on_the_second_real_log() -> None:
+    from scenariominer.api.mining import load_logs
+
+    cfg = Config()
+    (log,) = load_logs([SECOND_LOG], None, cfg)
+    ctx = LogContext(log, cfg.mining)
+    found = 0
+    for e in ENTRIES:
+        result = run_trusted_program(e.program, ctx, description=e.description)
+        assert result.error is None and result.scenario is not None, (e.description, result.error)
+        found += result.scenario.n_referred_cells > 0
+    assert found >= len(ENTRIES) / 4
 
 
 # ---------------------------------------------------------------------------------- scoring
@@ -212,17 +261,24 @@ def test_the_reference_scores_one_and_a_disjoint_candidate_zero(shared_log: LogC
 
 
 def test_descriptions_the_phrase_rules_read_are_aggregated_apart(shared_log: LogContext) -> None:
-    entries = [_entry(SPEEDING), _entry(SCHOOL_BUSES)]
-    scripted = _scripted({SPEEDING: _BOLLARDS, SCHOOL_BUSES: _BOLLARDS})
+    entries = [_entry(SPEEDING), _entry(SCHOOL_BUSES), _entry("bollards")]
+    scripted = _scripted({SPEEDING: _BOLLARDS, SCHOOL_BUSES: _BOLLARDS, "bollards": _BOLLARDS})
+    readers = {SPEEDING: "rules", SCHOOL_BUSES: "model", "bollards": "partial"}
     ev = evaluate_nl2prog(
-        entries, [shared_log], scripted, candidate_runner=_trusted, read_by_rules=lambda d: d == SPEEDING
+        entries, [shared_log], scripted, candidate_runner=_trusted, reader=readers.__getitem__
     )
-    assert [s.read_by_rules for s in ev.descriptions] == [True, False]
-    rules, model = ev.by_reader()["rules"], ev.by_reader()["model"]
+    assert [s.read_by_rules for s in ev.descriptions] == [True, False, False]
+    by = ev.by_reader()
+    rules, partial, model = by["rules"], by["partial"], by["model"]
     assert (rules.n_descriptions, rules.n_scored_cells, rules.mean_jaccard) == (1, 1, 0.0)
     assert (model.n_descriptions, model.n_scored_cells, model.mean_jaccard) == (1, 0, None)
+    assert (partial.n_descriptions, partial.n_scored_cells, partial.mean_jaccard) == (1, 1, 1.0)
     doc = ev.to_json_dict()
     assert doc["read_by"]["rules"]["n_descriptions"] == 1 and doc["descriptions"][0]["read_by_rules"] is True
+    assert [d["reader"] for d in doc["descriptions"]] == ["rules", "model", "partial"]
+    # no reader given: the model read everything
+    plain = evaluate_nl2prog(entries[:1], [shared_log], scripted, candidate_runner=_trusted)
+    assert plain.descriptions[0].reader == "model" and plain.by_reader()["rules"].n_descriptions == 0
 
 
 def test_failing_candidates_are_not_runnable_and_score_zero(shared_log: LogContext) -> None:

@@ -187,9 +187,13 @@ def _untrusted(program: str, context, description: str) -> ProgramResult:  # typ
     raise AssertionError("a cached program was run again")
 
 
-def _synth(replies: list[str], *, plan_rules: bool = True) -> tuple[ProgramSynthesizer, ScriptedBackend]:
+def _synth(
+    replies: list[str], *, plan_rules: bool = True, plan_partial: bool = True
+) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
-    config = GenerationConfig(max_attempts=1, plan=True, plan_program=True, plan_rules=plan_rules)
+    config = GenerationConfig(
+        max_attempts=1, plan=True, plan_program=True, plan_rules=plan_rules, plan_partial=plan_partial
+    )
     selector = ExampleSelector(load_examples(), HashingEmbedder(128))
     return ProgramSynthesizer(ChatClient(backend), selector, config), backend
 
@@ -225,11 +229,12 @@ def test_with_the_rules_off_or_an_unknown_word_the_model_reads_the_description()
         "```python\nv = get_objects_of_category(log_dir, category='VEHICLE')\n"
         "output_scenario(v, description, log_dir, output_dir)\n```"
     )
-    for description, rules in (
-        ("vehicles changing lanes to the left", False),
-        ("vehicles swerving sideways", True),
+    for description, rules, partial in (
+        ("vehicles changing lanes to the left", False, True),
+        ("vehicles swerving sideways", True, False),
+        ("a zeppelin hovering over vehicles", True, True),  # the subject is not read: no partial plan
     ):
-        synth, backend = _synth([plan, program], plan_rules=rules)
+        synth, backend = _synth([plan, program], plan_rules=rules, plan_partial=partial)
         report = generate_program(description, synth, [SCENE], config=MiningConfig(), runner=_trusted)
         assert len(backend.requests) >= 1  # the plan call
         assert report.plan is not None and "read_by" not in report.plan
@@ -271,3 +276,77 @@ def test_the_published_dev_descriptions_are_read_and_every_read_plan_runs() -> N
     for description, plan in read.items():
         result = run_trusted_program(compile_plan(plan).program, SCENE, description=description)
         assert result.ok, (description, result.error)
+
+
+def test_a_partial_reading_keeps_the_known_phrases_and_lists_the_words_left_out() -> None:
+    description = "stopped vehicles flashing their hazard lights near a pedestrian"
+    assert read_plan(description) is None
+    plan = read_plan(description, partial=True)
+    assert plan is not None and plan["read_by"] == "rules"
+    assert plan["unread"] == ["flashing", "their", "hazard", "lights"]
+    assert plan["conditions"][0]["function"] == "has_velocity"
+    assert [r["function"] for r in plan["relations"]] == ["near_objects"]
+    assert "- not read (left out, check the result): flashing their hazard lights" in plan_text(plan)
+    # a full reading has nothing left out, and the text says nothing of it
+    full = read_plan("stopped vehicles near a pedestrian", partial=True)
+    assert full is not None and full["unread"] == [] and "not read" not in plan_text(full)
+    assert {k: v for k, v in full.items() if k != "unread"} == read_plan("stopped vehicles near a pedestrian")
+    # no subject read, no plan
+    assert read_plan("a zeppelin hovering over vehicles", partial=True) is None
+
+
+def test_the_loop_mines_a_partly_read_description_without_any_model_call() -> None:
+    synth, backend = _synth([])
+    description = "cars swerving wildly"
+    report = generate_program(description, synth, [SCENE], config=MiningConfig(), runner=_trusted)
+    assert report.ok and backend.requests == []
+    assert report.plan is not None and report.plan["unread"] == ["swerving", "wildly"]
+    result = run_trusted_program(report.program or "", SCENE, description=description)
+    assert result.ok and result.scenario is not None
+    categories = {SCENE.log.categories[idx(SCENE, t)] for t in SCENE.log.track_ids}
+    assert "REGULAR_VEHICLE" in categories
+    referred = {SCENE.log.categories[int(i)] for i in result.scenario.referred_tracks}
+    assert referred == {"REGULAR_VEHICLE"}  # the subject, nothing left out narrows it
+
+
+@pytest.mark.parametrize(
+    "description",
+    [
+        "pedestrian on road not facing traffic",  # "not" left out would read "facing traffic"
+        "cyclists not wearing helmets",
+        "ego vehicle following a vehicle being overtaken on the right",  # the overtaking is the other's
+    ],
+)
+def test_a_partial_reading_never_drops_a_negation_or_moves_a_clause_to_the_subject(description: str) -> None:
+    assert read_plan(description, partial=True) is None
+
+
+@pytest.mark.parametrize(
+    ("description", "pair", "function", "direction", "argument"),
+    [
+        ("buses within 50 meters ahead", ("buses", "ego vehicle"), "get_objects_in_relative_direction",
+         "forward", "within_distance=50, lateral_thresh=1"),
+        ("vehicles within 15 meters behind", ("vehicles", "ego vehicle"), "get_objects_in_relative_direction",
+         "backward", "within_distance=15, lateral_thresh=1"),
+        ("motorcycles within 5 meters to the right", ("motorcycles", "ego vehicle"),
+         "get_objects_in_relative_direction", "right", "within_distance=5"),
+        # the pedestrians cross in front of the ego: the ego is crossed by them
+        ("pedestrians crossing ahead", ("ego vehicle", "pedestrians"), "being_crossed_by", "forward", None),
+        ("vehicle being overtaken on the left", ("vehicle", "vehicles"), "being_crossed_by", "left",
+         "in_direction='clockwise', forward_thresh=4"),
+        ("vehicle getting passed from the right", ("vehicle", "vehicles"), "being_crossed_by", "right",
+         "in_direction='counterclockwise', forward_thresh=4"),
+    ],
+)  # fmt: skip
+def test_a_place_or_an_overtaking_with_no_road_user_named_is_relative_to_the_ego_or_to_vehicles(
+    description: str, pair: tuple[str, str], function: str, direction: str, argument: str | None
+) -> None:
+    plan = read_plan(description)
+    assert plan is not None
+    (rel,) = plan["relations"]
+    assert (rel["subject_words"], rel["other_words"]) == pair
+    assert (rel["function"], rel["direction"], rel["argument"]) == (function, direction, argument)
+
+
+def test_bicycles_travelling_are_moving() -> None:
+    assert _referred("bicycles traveling") == _referred("moving bicycles")

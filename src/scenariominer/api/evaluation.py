@@ -207,7 +207,7 @@ class Nl2ProgEvalRequest:
     """Which descriptions of the description -> program evaluation set to score, on which logs.
 
     Attributes:
-        split: ``holdout`` (default), ``dev`` or ``all``.
+        split: ``holdout`` (default), ``published``, ``challenge``, ``dev`` or ``all``.
         limit: score at most this many descriptions (in set order); ``None`` for all.
         logs: log folders or files (any supported format); default the Argoverse 2 sample log
             beside a source checkout (``../shared/data/av2``).
@@ -279,11 +279,17 @@ def evaluate_nl2prog(
         )
     progress = progress or NullProgress()
     reads = gen.plan and gen.plan_rules and gen.plan_program and provider_is_the_loop
+
+    def reader(description: str) -> str:
+        if read_plan(description) is not None:
+            return "rules"
+        return "partial" if gen.plan_partial and read_plan(description, partial=True) else "model"
+
     with step(progress, "descriptions", len(entries)):
         return _evaluate_nl2prog(
             entries,
             contexts,
             provider,
             on_description=lambda s: progress.advance(1, s.description[:48]),
-            read_by_rules=(lambda d: read_plan(d) is not None) if reads else None,
+            reader=reader if reads else None,
         )

@@ -357,15 +357,18 @@ def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
         soft_wrap=True,
     )
     readers = ev.by_reader()
-    rules, model = readers["rules"], readers["model"]
-    if rules.n_descriptions:
-        out.print(
-            f"read by the phrase rules: {rules.n_descriptions}/{n}, mean Jaccard "
-            f"{_jaccard_cell(rules.mean_jaccard)} over {rules.n_scored_cells} cell(s); read by the model: "
-            f"{model.n_descriptions}/{n}, mean Jaccard {_jaccard_cell(model.mean_jaccard)} over "
-            f"{model.n_scored_cells} cell(s)",
-            soft_wrap=True,
-        )
+    if readers["rules"].n_descriptions or readers["partial"].n_descriptions:
+        parts = [
+            f"{label}: {r.n_descriptions}/{n}, mean Jaccard {_jaccard_cell(r.mean_jaccard)} over "
+            f"{r.n_scored_cells} cell(s)"
+            for label, r in (
+                ("read by the phrase rules", readers["rules"]),
+                ("in part (some words left out)", readers["partial"]),
+                ("read by the model", readers["model"]),
+            )
+            if r.n_descriptions or label.startswith("read by")
+        ]
+        out.print("; ".join(parts), soft_wrap=True)
     if ev.n_reference_failures:
         out.print(
             f"[yellow]note:[/yellow] the reference failed in {ev.n_reference_failures} cell(s) "
@@ -395,7 +398,8 @@ def nl2prog(
         str,
         typer.Option(
             "--split",
-            help="Descriptions to score: holdout, published (RefAV's wording, held out), dev or all.",
+            help="Descriptions to score: holdout, published (RefAV's wording, held out), challenge "
+            "(the AV2 2025 challenge's wording, held out), dev or all.",
         ),
     ] = "holdout",
     limit: Annotated[
@@ -457,6 +461,15 @@ def nl2prog(
             "reads only those with a word the rules do not know (default: mining.generation.plan_rules).",
         ),
     ] = None,
+    plan_partial: Annotated[
+        bool | None,
+        typer.Option(
+            "--plan-partial/--no-plan-partial",
+            help="With --plan-rules, let the phrase rules read a description in part (the words they "
+            "do not know left out and listed) when they read its subject, before asking the model "
+            "(default: mining.generation.plan_partial).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
@@ -479,6 +492,8 @@ def nl2prog(
         gen = dataclasses.replace(gen, plan_program=plan_program)
     if plan_rules is not None:
         gen = dataclasses.replace(gen, plan_rules=plan_rules)
+    if plan_partial is not None:
+        gen = dataclasses.replace(gen, plan_partial=plan_partial)
     cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()

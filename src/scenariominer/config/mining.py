@@ -116,6 +116,11 @@ class GenerationConfig:
         plan_rules: with ``plan`` on, first read the description with the phrase rules
             (:mod:`scenariominer.mine.plan_reader`); the model reads it only when a word of it is
             not one of the known phrases.
+        plan_partial: with ``plan_rules`` on, a description with words the phrase rules do not
+            know is read by them partially (the known phrases; the other words listed in the
+            plan as not read) when they read its subject; the model reads only the rest. On by
+            default: on the descriptions the rules could not read in full, the partial plans
+            agreed with the references far better than the model's (docs/mining.md).
     """
 
     max_attempts: int = 5
@@ -133,6 +138,7 @@ class GenerationConfig:
     plan: bool = True
     plan_program: bool = True
     plan_rules: bool = True
+    plan_partial: bool = True
 
     def __post_init__(self) -> None:
         try:

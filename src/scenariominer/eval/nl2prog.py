@@ -11,7 +11,14 @@ each with a hand-written reference program in the mining DSL, a split and family
 * ``published``: a second hold-out, held like ``holdout``, whose descriptions are not ours: a
   seeded sample of the descriptions RefAV published for the Argoverse 2 scenario-mining task
   (their wording, our reference programs), drawn before the phrase rules
-  (:mod:`~scenariominer.mine.plan_reader`) were extended from the rest of that list.
+  (:mod:`~scenariominer.mine.plan_reader`) were extended from the rest of that list;
+* ``challenge``: a third hold-out, held like ``holdout``, also not ours: a seeded sample
+  (``random.Random(2026)``, 36) of the Argoverse 2 scenario-mining 2025 challenge test
+  descriptions (as listed in ``refAV/llm_prompting/all_descriptions.txt`` of JiangXiaobai00/SML,
+  MIT), taken from those without a near-identical description already in use and answerable over
+  tracked boxes and the map (colours, lights, intent, speed limits and sub-types AV2 does not
+  annotate filtered out first); their wording, our reference programs; drawn before the phrase
+  rules were extended from the rest of that list (``tests/mine/data/challenge_dev.txt``).
 
 :func:`evaluate_nl2prog` asks a *candidate provider* (a ``Callable[[str], str | None]``:
 description in, program or ``None`` out) for a program per description and runs it next to the
@@ -87,11 +94,14 @@ __all__ = [
 #: Name of the evaluation-set file shipped in this package.
 EVAL_SET_FILE = "nl2prog_set.toml"
 
+#: Who reads a description into a plan: the phrase rules, every word or some, or the model.
+READERS: tuple[str, ...] = ("rules", "partial", "model")
+
 #: The splits of the set.
-SPLITS: tuple[str, ...] = ("dev", "holdout", "published")
+SPLITS: tuple[str, ...] = ("dev", "holdout", "published", "challenge")
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
-HELD_OUT_SPLITS: tuple[str, ...] = ("holdout", "published")
+HELD_OUT_SPLITS: tuple[str, ...] = ("holdout", "published", "challenge")
 
 #: Family tags an entry may carry (what its description exercises); the set covers every one.
 FAMILIES: dict[str, str] = {
@@ -203,7 +213,7 @@ def load_eval_set(split: str | None = None, path: str | Path | None = None) -> t
     """The evaluation set (the shipped file, or ``path``), optionally one split only.
 
     Args:
-        split: ``dev``, ``holdout``, or ``None``/``all`` for both.
+        split: one of :data:`SPLITS`, or ``None``/``all`` for every split.
         path: a TOML file of the same format instead of the shipped set.
 
     Raises:
@@ -328,8 +338,9 @@ class DescriptionScore:
         cells: one score per log.
         provider_s: seconds the provider took (e.g. the model loop).
         execution_s: seconds running the candidate on the logs.
-        read_by_rules: the phrase rules read the description (no model reading it;
-            :mod:`scenariominer.mine.plan_reader`).
+        reader: who read the description into a plan: ``rules`` (the phrase rules, every word;
+            :mod:`scenariominer.mine.plan_reader`), ``partial`` (the phrase rules, some words
+            left out) or ``model``.
     """
 
     description: str
@@ -341,7 +352,12 @@ class DescriptionScore:
     cells: tuple[CellScore, ...]
     provider_s: float
     execution_s: float
-    read_by_rules: bool = False
+    reader: str = "model"
+
+    @property
+    def read_by_rules(self) -> bool:
+        """Whether the phrase rules read every word of the description."""
+        return self.reader == "rules"
 
     @property
     def scored_cells(self) -> tuple[CellScore, ...]:
@@ -372,6 +388,7 @@ class DescriptionScore:
             "provider_s": round(self.provider_s, 3),
             "execution_s": round(self.execution_s, 3),
             "read_by_rules": self.read_by_rules,
+            "reader": self.reader,
             "program": self.program,
             "logs": [
                 {
@@ -489,10 +506,10 @@ class Nl2ProgEvaluation:
         return out
 
     def by_reader(self) -> dict[str, FamilyScore]:
-        """Aggregates of the descriptions the phrase rules read (``rules``) and of the rest (``model``)."""
+        """Aggregates per reader: the phrase rules in full (``rules``), in part (``partial``), the model."""
         out: dict[str, FamilyScore] = {}
-        for name, read in (("rules", True), ("model", False)):
-            members = [s for s in self.descriptions if s.read_by_rules is read]
+        for name in READERS:
+            members = [s for s in self.descriptions if s.reader == name]
             runnable, n_cells, mean = _aggregate(members)
             out[name] = FamilyScore(name, len(members), runnable, n_cells, mean)
         return out
@@ -607,7 +624,7 @@ def evaluate_nl2prog(
     candidate_runner: ProgramRunner | None = None,
     reference_runner: ProgramRunner | None = None,
     on_description: Callable[[DescriptionScore], None] | None = None,
-    read_by_rules: Callable[[str], bool] | None = None,
+    reader: Callable[[str], str] | None = None,
 ) -> Nl2ProgEvaluation:
     """Score ``provider``'s programs against the references on every log.
 
@@ -621,8 +638,8 @@ def evaluate_nl2prog(
             (:func:`~scenariominer.mine.sandbox.run_program`), as they may be model-written.
         reference_runner: how reference programs run; default in-process (trusted).
         on_description: called with each description's score (progress).
-        read_by_rules: whether the provider's plan step reads a description by the phrase rules
-            (labels each score, for :meth:`Nl2ProgEvaluation.by_reader`); ``None``: never.
+        reader: who the provider's plan step has read a description (one of :data:`READERS`;
+            labels each score, for :meth:`Nl2ProgEvaluation.by_reader`); ``None``: the model.
 
     Raises:
         ValueError: no logs.
@@ -636,8 +653,8 @@ def evaluate_nl2prog(
     scores = []
     for entry in entries:
         score = _score_entry(entry, contexts, provider, cand, ref, cache)
-        if read_by_rules is not None and read_by_rules(entry.description):
-            score = replace(score, read_by_rules=True)
+        if reader is not None:
+            score = replace(score, reader=reader(entry.description))
         scores.append(score)
         if on_description is not None:
             on_description(score)

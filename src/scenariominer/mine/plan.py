@@ -140,6 +140,8 @@ def plan_text(plan: dict[str, Any]) -> str:
         lines.append(f"- condition: {'scenario_not(...) of ' if cond.get('negated') else ''}{call}")
     for num in plan.get("numbers", []):
         lines.append(f"- number stated: {num['value']:g} {num['unit']} ({num['meaning']})")
+    if plan.get("unread"):  # a partial reading by the phrase rules: say what it left out
+        lines.append(f"- not read (left out, check the result): {' '.join(plan['unread'])}")
     return "\n".join(lines)
 
 

@@ -10,6 +10,12 @@ turns it into a program with no model call. It reads a description only when **e
 accounted for (a phrase of the tables below, or a filler such as "that are"); any word it does not
 know makes it return ``None`` and the model reads the description instead. It never guesses.
 
+With ``partial=True`` it also reads a description some of whose words it does not know, as long
+as it reads the subject: the plan of the phrases it knows, with the other words listed under
+``unread`` (shown to the user, who should check the result). On the descriptions the rules could
+not read in full, such a partial plan agreed with the reference far better than the 1.5B model's
+plan (docs/mining.md), so the mining loop prefers it (``mining.generation.plan_partial``).
+
 The tables map English phrasing to the predicates, with the settings the predicates' docstrings
 and the evaluation set's dev part use for each phrase (``scenariominer.eval.nl2prog``). They were
 written from the dev split, the example bank and (from ``plan-reader/3``) the 152 published RefAV
@@ -26,7 +32,7 @@ from typing import Any
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/5"
+PLAN_READER_VERSION = "plan-reader/6"
 
 #: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
 _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -234,6 +240,7 @@ class _Phrase:
     to_subject: bool = False  # a relation among the subject's own members ("close together")
     sides: tuple[str, ...] = ()  # one relation per direction, all required ("on both sides")
     any_side: bool = False  # with ``sides``: one relation holding in any of them ("on either side")
+    implied: str | None = None  # the other road users when the phrase names none ("ahead": the ego)
 
 
 _NUMBER = r"\d+(?:\.\d+)?"
@@ -260,6 +267,7 @@ _SPEEDING_UP = ("accelerating", "min_accel=1.0")
 _TURNING = ("turning", "direction='{dir}'")
 _BESIDE = "within_distance=5, lateral_thresh=2"
 _ALONG = "within_distance=25, lateral_thresh=1"
+_EGO = "the ego vehicle"
 
 #: Phrases after the subject, tried in this order; each match is consumed.
 _PHRASES: tuple[_Phrase, ...] = (
@@ -288,6 +296,26 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(
         r"(?:directly )?(?:ahead of|in front of) {obj} within " + _DIST,
         "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+    ),
+    # a place with no road user named is the ego's ("within 50 meters ahead", "to the right")
+    _Phrase(
+        r"within " + _DIST + r" (?:ahead|in front)(?! of)",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+        implied=_EGO,
+    ),
+    _Phrase(
+        r"within " + _DIST + r" (?:behind|in back)(?= ,|\s*$)",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+        implied=_EGO,
+    ),
+    _Phrase(
+        r"within " + _DIST + r" (?:to|on) the (?P<dir>left|right)(?: side)?(?! of)",
+        "get_objects_in_relative_direction", "within_distance={dist}", "{dir}", implied=_EGO,
+    ),
+    _Phrase(
+        r"within " + _DIST + r" (?:on|to) either side(?! of)",
+        "get_objects_in_relative_direction", "within_distance={dist}", sides=("left", "right"), any_side=True,
+        implied=_EGO,
     ),
     _Phrase(
         r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) "
@@ -333,6 +361,11 @@ _PHRASES: tuple[_Phrase, ...] = (
             "in_direction='counterclockwise', forward_thresh=4", "right"),
     _Phrase(r"being (?:overtaken|passed) (?:on the left )?by {obj}(?: on the left)?", "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left"),
+    # ... by a vehicle, when the overtaker is not named
+    _Phrase(r"(?:being |getting )?(?:overtaken|passed) (?:on|from) (?:the )?right", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
+    _Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
+            "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
     _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj}"
             r" in (?:the )?same lane",
             "following"),
@@ -397,6 +430,12 @@ _PHRASES: tuple[_Phrase, ...] = (
     ),
     _Phrase(r"(?:behind|in back of) {obj}", "get_objects_in_relative_direction", _ALONG, "backward"),
     _Phrase(r"(?:ahead of|in front of) {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
+    _Phrase(
+        r"(?:crossing|walking across|running across)(?: the road| the street)? (?:ahead|in front)(?! of)",
+        "being_crossed_by", direction="forward", reverse=True, implied=_EGO,
+    ),
+    _Phrase(r"(?:directly |straight )?ahead(?! of)", "get_objects_in_relative_direction", _ALONG, "forward",
+            implied=_EGO),
     _Phrase(
         r"(?:directly |immediately )?(?:to|on) either side of {obj}",
         "get_objects_in_relative_direction", "within_distance=10", sides=("left", "right"), any_side=True,
@@ -484,7 +523,7 @@ _PHRASES: tuple[_Phrase, ...] = (
     _Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)", "has_velocity",
             "min_velocity=0.5, max_velocity=3"),
     _Phrase(r"(?:at (?:a )?high speed|quickly)", "has_velocity", "min_velocity=10"),
-    _Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running)", *_MOVING),
+    _Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running|travell?ing)", *_MOVING),
 )  # fmt: skip
 _COMPILED = tuple(
     (re.compile(r"(?<![\w-])" + p.pattern.replace("{obj}", f"(?P<obj>{_NP})") + r"(?![\w-])"), p)
@@ -493,6 +532,15 @@ _COMPILED = tuple(
 _SUBJECT = re.compile(
     rf"^\s*(?:(?:all|the|a|an|any|some|every)\s+)*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})(?![\w-])"
 )
+
+
+#: Words whose loss would invert a partial reading ("not facing traffic" read as "facing traffic").
+_NEGATIONS = frozenset(
+    {"not", "no", "without", "never", "nor", "neither", "non", "unless", "except"}
+    | {"don't", "doesn't", "isn't", "aren't", "wasn't", "weren't", "won't", "cannot"}
+)
+
+_BEING_AFTER_OBJECT = re.compile(rf"(?<![\w-]){_NP} (?:is )?being(?![\w-])")
 
 
 def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
@@ -508,8 +556,8 @@ def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
             raise _Unread(found.group(0))  # a count this relation cannot take
         count = 2 if "multi" in groups else int(groups["qty"])
         argument = ", ".join(a for a in (argument, f"{_COUNT_KEYWORD[phrase.function]}={count}") if a)
-    if "obj" in groups or phrase.to_subject:
-        other = groups.get("obj", reading.subject_phrase or reading.subject_words)
+    if "obj" in groups or phrase.to_subject or phrase.implied:
+        other = groups.get("obj", phrase.implied or reading.subject_phrase or reading.subject_words)
         if phrase.any_side:
             reading.relate(phrase.function, other, argument=argument, any_direction=phrase.sides)
             return
@@ -545,12 +593,19 @@ def _as_group(reading: _Reading, size: int) -> None:
     reading.relate("near_objects", members, argument=f"{_GROUP_DISTANCE}, {count}")
 
 
-def read_plan(description: str) -> dict[str, Any] | None:
+def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | None:
     """The plan of ``description`` when every word of it is one of the known phrases, else ``None``.
 
     The plan has the fields of :func:`scenariominer.mine.plan.plan_model` plus ``read_by =
     "rules"``; a category may be a list (the union of several, "buses"), and a related object may
     carry its own conditions ("a *moving* vehicle"), which the model's plans never do.
+
+    Args:
+        description: the request.
+        partial: also read it when some words are not known phrases (the subject must be read
+            and every known phrase must make sense); the plan then lists those words, in order,
+            under ``unread`` (empty when every word was read). A relative clause after another
+            road user ("... who is ...") still makes it return ``None``.
     """
     group, subject, text = _leading_subject(description)
     if subject is None:
@@ -563,9 +618,10 @@ def read_plan(description: str) -> dict[str, Any] | None:
         )
         reading.conditions.extend(_modifier_conditions(subject.group("mods")))
         rest = " " + text[subject.end() :] + " "
-        if re.search(r"\S.*\b(?:who|which|that)\b", rest):
+        if re.search(r"\S.*\b(?:who|which|that)\b", rest) or _BEING_AFTER_OBJECT.search(rest):
             # a relative clause after another road user ("... a bicyclist who is to the left of a
-            # vehicle") may describe that road user, not the subject: the model reads it
+            # vehicle", "following a vehicle being overtaken") may describe that road user, not the
+            # subject: the model reads it
             return None
         for pattern, phrase in _COMPILED:
             while (found := pattern.search(rest)) is not None:
@@ -575,8 +631,9 @@ def read_plan(description: str) -> dict[str, Any] | None:
             _as_group(reading, int(group.group("size") or _GROUP_SIZE))
     except _Unread:
         return None
-    if any(word not in _FILLERS for word in re.findall(r"[\w'/.-]+", rest)):
-        return None
+    unread = [word for word in re.findall(r"[\w'/.-]+", rest) if word not in _FILLERS]
+    if unread and (not partial or _NEGATIONS.intersection(unread)):
+        return None  # a negation left out would turn the reading into its opposite
     return {
         "subject_words": reading.subject_words,
         "subject_category": one_or_many(reading.subject),
@@ -585,6 +642,7 @@ def read_plan(description: str) -> dict[str, Any] | None:
         "conditions": reading.conditions,
         "numbers": [],
         "read_by": "rules",
+        **({"unread": unread} if partial else {}),
     }
 
 

@@ -211,14 +211,18 @@ class ProgramSynthesizer:
     def plan_for(self, description: str) -> dict[str, Any] | None:
         """The description's plan (kept per description); ``None`` when planning is off.
 
-        With ``plan_rules`` on, the phrase rules read it first (no model call); otherwise, or when
-        a word is not one of their phrases, one model call does. A plan the model cannot produce
-        in a valid form is recorded as ``{"error": ...}`` and the program is written without it.
+        With ``plan_rules`` on, the phrase rules read it first (no model call); with
+        ``plan_partial`` also when some of its words are not their phrases, as long as they read
+        the subject (the plan lists the words left out under ``unread``). Otherwise one model call
+        does. A plan the model cannot produce in a valid form is recorded as ``{"error": ...}``
+        and the program is written without it.
         """
         if not self.config.plan:
             return None
         if description not in self.plans and self.config.plan_rules:
-            read = read_plan(description)
+            read = read_plan(description) or (
+                read_plan(description, partial=True) if self.config.plan_partial else None
+            )
             if read is not None:
                 self.plans[description] = read
         if description not in self.plans:

@@ -264,7 +264,7 @@ class EvalMiningJob(_Strict):
 class EvalNl2ProgJob(_Strict):
     """Score program generation on the description set."""
 
-    split: Literal["dev", "holdout", "published", "all"] = "holdout"
+    split: Literal["dev", "holdout", "published", "challenge", "all"] = "holdout"
     limit: int | None = Field(default=None, ge=1, le=1000)
 
 
