@@ -49,9 +49,9 @@ ENTRIES = load_eval_set()
 #: The dev material of the phrase rules (tests/mine/data): other people's descriptions outside
 #: the held-out ``published`` and ``challenge`` samples.
 DEV_MATERIAL = Path(__file__).resolve().parents[1] / "mine" / "data"
-SECOND_LOG = (
-    Path(__file__).resolve().parents[1] / "real_data" / "av2" / "adcf7d18-0510-35b0-a2fa-b4cea13a6d76"
-)
+REAL_LOGS = Path(__file__).resolve().parents[1] / "real_data" / "av2"
+SECOND_LOG = REAL_LOGS / "adcf7d18-0510-35b0-a2fa-b4cea13a6d76"
+THIRD_LOG = REAL_LOGS / "3bffdcff-c3a7-38b6-a0f2-64196d130958"
 
 
 def _trusted(program: str, ctx: LogContext, description: str) -> ProgramResult:
@@ -194,11 +194,12 @@ def test_every_reference_runs_on_the_shared_log_and_most_find_something(shared_l
     assert sum(found[d] for d in challenge) >= 1
 
 
-def test_every_reference_runs_on_the_second_real_log() -> None:
+@pytest.mark.parametrize("log_dir", [SECOND_LOG, THIRD_LOG], ids=["adcf7d18", "3bffdcff"])
+def test_every_reference_runs_on_the_other_real_logs(log_dir: Path) -> None:
     from scenariominer.api.mining import load_logs
 
     cfg = Config()
-    (log,) = load_logs([SECOND_LOG], None, cfg)
+    (log,) = load_logs([log_dir], None, cfg)
     ctx = LogContext(log, cfg.mining)
     found = 0
     for e in ENTRIES:

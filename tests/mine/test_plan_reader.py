@@ -4,12 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
-from mining_scenes import idx, street_scene
+from mining_scenes import T_S, Obj, const, idx, make_log, street_scene
 
 from scenariominer.config.mining import GenerationConfig, MiningConfig
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import HashingEmbedder
+from scenariominer.mine.context import LogContext
 from scenariominer.mine.loop import ProgramCache, generate_program
 from scenariominer.mine.plan import plan_text
 from scenariominer.mine.plan_program import compile_plan
@@ -284,13 +286,16 @@ def test_a_partial_reading_keeps_the_known_phrases_and_lists_the_words_left_out(
     plan = read_plan(description, partial=True)
     assert plan is not None and plan["read_by"] == "rules"
     assert plan["unread"] == ["flashing", "their", "hazard", "lights"]
-    assert plan["conditions"][0]["function"] == "has_velocity"
+    assert plan["conditions"][0]["function"] == "stopped"
+    assert plan["assumed"] == []  # no road user among the words left out
     assert [r["function"] for r in plan["relations"]] == ["near_objects"]
     assert "- not read (left out, check the result): flashing their hazard lights" in plan_text(plan)
     # a full reading has nothing left out, and the text says nothing of it
     full = read_plan("stopped vehicles near a pedestrian", partial=True)
     assert full is not None and full["unread"] == [] and "not read" not in plan_text(full)
-    assert {k: v for k, v in full.items() if k != "unread"} == read_plan("stopped vehicles near a pedestrian")
+    assert {k: v for k, v in full.items() if k not in ("unread", "assumed")} == read_plan(
+        "stopped vehicles near a pedestrian"
+    )
     # no subject read, no plan
     assert read_plan("a zeppelin hovering over vehicles", partial=True) is None
 
@@ -350,3 +355,57 @@ def test_a_place_or_an_overtaking_with_no_road_user_named_is_relative_to_the_ego
 
 def test_bicycles_travelling_are_moving() -> None:
     assert _referred("bicycles traveling") == _referred("moving bicycles")
+
+
+def test_a_road_user_named_in_the_words_left_out_is_still_required_nearby() -> None:
+    plan = read_plan("pedestrians walking two dogs", partial=True)
+    assert plan is not None and plan["unread"] == ["2", "dogs"] and plan["assumed"] == ["near dogs"]
+    (relation,) = plan["relations"]
+    assert (relation["function"], relation["other_words"]) == ("near_objects", "dogs")
+    assert "- assumed from the words not read: near dogs" in plan_text(plan)
+    # the street scene has walking pedestrians but no dog: nothing is referred, not every walker
+    assert _referred_partly("pedestrians walking two dogs") == set()
+    assert _referred_partly("pedestrians walking with poise")  # nothing named: the walkers
+    # the ego is always there: no distance to it is assumed
+    ego = read_plan("cars getting closer to the ego vehicle", partial=True)
+    assert ego is not None and ego["assumed"] == [] and ego["relations"] == []
+
+
+def _referred_partly(description: str) -> set[str]:
+    plan = read_plan(description, partial=True)
+    assert plan is not None
+    result = run_trusted_program(compile_plan(plan).program, SCENE, description=description)
+    assert result.ok and result.scenario is not None, result.error
+    names = {idx(SCENE, name): name for name in SCENE.log.track_ids}
+    return {names[int(i)] for i in result.scenario.referred_tracks}
+
+
+def test_stopped_takes_parked_objects_too_but_standing_still_does_not() -> None:
+    t = T_S
+    # "halting" drives at 8 m/s for 2 s, then stands; "parked" never moves; "driving" never stops
+    x_halting = np.minimum(8 * t, 16.0)
+    scene = LogContext(
+        make_log(
+            [
+                Obj("ego", "EGO_VEHICLE", 10 * t, const(-20.0), const(0.0)),
+                Obj("halting", "REGULAR_VEHICLE", x_halting, const(0.0), const(0.0)),
+                Obj("parked", "REGULAR_VEHICLE", const(40.0), const(5.0), const(0.0)),
+                Obj("driving", "REGULAR_VEHICLE", 12 * t, const(-5.0), const(0.0)),
+            ],
+            log_id="stops",
+        )
+    )
+
+    def referred(description: str) -> set[str]:
+        plan = read_plan(description)
+        assert plan is not None
+        result = run_trusted_program(compile_plan(plan).program, scene, description=description)
+        assert result.ok and result.scenario is not None, result.error
+        return {scene.log.track_ids[int(i)] for i in result.scenario.referred_tracks}
+
+    assert referred("stopped cars") == {"halting", "parked"}  # the Argoverse 2 ground truth's sense
+    assert referred("cars standing still") == {"halting"}  # momentarily, as has_velocity reads it
+    assert referred("parked cars") == {"parked"}
+    # a condition read twice is applied once
+    plan = read_plan("cars that are stopped or nearly stopped", partial=True)
+    assert plan is not None and [c["function"] for c in plan["conditions"]] == ["stopped"]

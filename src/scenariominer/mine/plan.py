@@ -142,6 +142,8 @@ def plan_text(plan: dict[str, Any]) -> str:
         lines.append(f"- number stated: {num['value']:g} {num['unit']} ({num['meaning']})")
     if plan.get("unread"):  # a partial reading by the phrase rules: say what it left out
         lines.append(f"- not read (left out, check the result): {' '.join(plan['unread'])}")
+    if plan.get("assumed"):
+        lines.append(f"- assumed from the words not read: {'; '.join(plan['assumed'])}")
     return "\n".join(lines)
 
 

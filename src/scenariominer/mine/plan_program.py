@@ -22,8 +22,9 @@ direction as an object (rules in :func:`_normalised`, each leaving a note):
   itself ("vehicles ... *vehicles*") is a misreading: it is dropped when its direction is already
   given to a condition or can be given to one that takes it (``turning``, ``changing_lanes``);
 * adjectives of the subject that name a state ("parked", "stopped") add its condition
-  (``stationary``), and the subject's words decide its categories as the phrase rules read
-  them (:func:`~scenariominer.mine.plan_reader.subject_categories`: "vehicles" the VEHICLE group,
+  (``stationary``; "stopped" also takes the momentarily stopped, :data:`COMPOSITE_CONDITIONS`),
+  and the subject's words decide its categories as the phrase rules read them
+  (:func:`~scenariominer.mine.plan_reader.subject_categories`: "vehicles" the VEHICLE group,
   "regular vehicles" REGULAR_VEHICLE, "buses" every bus category), whatever was planned.
 
 A plan the rules cannot use faithfully (a relation whose other object is not among the planned
@@ -70,8 +71,17 @@ _MAP_CONDITIONS: tuple[tuple[re.Pattern[str], str, str | None], ...] = (
 )
 #: Adjectives of the subject that name a condition.
 _STATE_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
-    (re.compile(r"\b(parked|stopped|stationary|standing still)\b", re.I), "stationary"),
+    (re.compile(r"\b(parked|stationary)\b", re.I), "stationary"),
+    (re.compile(r"\b(stopped|halted)\b", re.I), "stopped"),
 )
+#: Conditions that are no single mining function, as the expression testing them (``{t}``: the
+#: object set). "stopped": at rest at the timestamp, parked objects included, as the Argoverse 2
+#: scenario-mining ground truth of "stopped car" has it (``has_velocity`` alone leaves out the
+#: objects that never move, ``stationary`` alone the momentarily stopped ones).
+COMPOSITE_CONDITIONS: dict[str, str] = {
+    "stopped": "scenario_or([stationary({t}, log_dir), "
+    "has_velocity({t}, log_dir, min_velocity=0, max_velocity=0.5)])",
+}
 
 
 class PlanCompileError(ValueError):
@@ -287,6 +297,10 @@ def _condition_call(cond: Mapping[str, Any], target: str, notes: list[str]) -> s
     from scenariominer.mine.dsl import DSL_FUNCTIONS
 
     name = str(cond.get("function", ""))
+    if name in COMPOSITE_CONDITIONS:
+        if cond.get("negated") or cond.get("argument"):
+            raise PlanCompileError(f"condition {name!r} takes no settings and cannot be negated")
+        return COMPOSITE_CONDITIONS[name].format(t=target)
     func = DSL_FUNCTIONS.get(name)
     if func is None:
         raise PlanCompileError(f"condition {name!r} is not a mining function")

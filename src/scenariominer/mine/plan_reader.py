@@ -76,6 +76,10 @@ _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
 #: A speed condition for "moving" and for the riding/walking verbs (the predicate's default).
 _MOVING = ("has_velocity", "min_velocity=0.5")
 _STOPPED = ("has_velocity", "min_velocity=0, max_velocity=0.5")
+#: "stopped": at rest at the timestamp, parked objects included (the Argoverse 2 scenario-mining
+#: ground truth of "stopped car" refers to the parked cars too); compiled by
+#: :mod:`scenariominer.mine.plan_program` as ``stationary`` or ``has_velocity(<= 0.5 m/s)``.
+_STOPPED_OR_PARKED = ("stopped", None)
 
 #: Adjectives before a road user: (pattern, condition function, argument).
 _MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
@@ -83,7 +87,7 @@ _MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
     (r"parked|stationary", "stationary", None),
     (r"active|non-stationary", "not stationary", None),
     (r"jaywalking", "jaywalking", None),
-    (r"stopped|halted", *_STOPPED),
+    (r"stopped|halted", *_STOPPED_OR_PARKED),
     (r"fast|speeding|fast-moving", "has_velocity", "min_velocity=10"),
     (r"turning", "turning", None),
     (r"accelerating", "accelerating", "min_accel=1.0"),
@@ -116,9 +120,13 @@ class _Reading:
     conditions: list[dict[str, Any]] = field(default_factory=list)
     related: list[dict[str, Any]] = field(default_factory=list)
     relations: list[dict[str, Any]] = field(default_factory=list)
+    assumed: list[str] = field(default_factory=list)  # relations a partial reading adds on its own
 
     def condition(self, function: str, argument: str | None = None, *, negated: bool = False) -> None:
-        self.conditions.extend(_conditions(function, argument, negated))
+        """Add a condition on the subject (once: "stopped or nearly stopped" gives one)."""
+        self.conditions.extend(
+            c for c in _conditions(function, argument, negated) if c not in self.conditions
+        )
 
     def relate(
         self,
@@ -517,7 +525,8 @@ _PHRASES: tuple[_Phrase, ...] = (
         r"|(?:performing|making|doing) a lane change)",
         "changing_lanes",
     ),
-    _Phrase(r"(?:waiting )?(?:standing still|at a standstill|not moving|at rest|stopped|halted)", *_STOPPED),
+    _Phrase(r"(?:waiting )?(?:stopped|halted)", *_STOPPED_OR_PARKED),
+    _Phrase(r"(?:waiting )?(?:standing still|at a standstill|not moving|at rest)", *_STOPPED),
     _Phrase(_NOT + r"(?:parked|stationary)", "stationary"),
     _Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),
     _Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)", "has_velocity",
@@ -593,6 +602,23 @@ def _as_group(reading: _Reading, size: int) -> None:
     reading.relate("near_objects", members, argument=f"{_GROUP_DISTANCE}, {count}")
 
 
+def _keep_unread_road_users(reading: _Reading, rest: str) -> None:
+    """Require the road users named among the words left out nearby (a partial reading).
+
+    "person walking *two dogs*": the relation to the dogs is not read, but without any dog close by
+    the description cannot hold, so the subject keeps the timestamps with one within 10 m (the bare
+    "near X" of the tables) instead of every walking person. The ego, always present, is left out.
+    """
+    for found in re.finditer(rf"(?<![\w-])(?:{_CATEGORY_RE})(?![\w-])", rest):
+        words = found.group(0)
+        if words == "traffic" or words in {r["other_words"] for r in reading.relations}:
+            continue  # "through traffic" is no one road user
+        if _categories(words) == ("EGO_VEHICLE",):
+            continue  # always there: a distance to it would be a guess, not a presence test
+        reading.relate("near_objects", words, argument="distance_thresh=10")
+        reading.assumed.append(f"near {words}")
+
+
 def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | None:
     """The plan of ``description`` when every word of it is one of the known phrases, else ``None``.
 
@@ -604,8 +630,10 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         description: the request.
         partial: also read it when some words are not known phrases (the subject must be read
             and every known phrase must make sense); the plan then lists those words, in order,
-            under ``unread`` (empty when every word was read). A relative clause after another
-            road user ("... who is ...") still makes it return ``None``.
+            under ``unread`` (empty when every word was read). A road user named among those
+            words is still required within 10 m (:func:`_keep_unread_road_users`; listed under
+            ``assumed``). A left-out negation or a relative clause after another road user
+            ("... who is ...") still makes it return ``None``.
     """
     group, subject, text = _leading_subject(description)
     if subject is None:
@@ -629,11 +657,13 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
                 rest = rest[: found.start()] + " , " + rest[found.end() :]
         if group is not None:
             _as_group(reading, int(group.group("size") or _GROUP_SIZE))
+        unread = [word for word in re.findall(r"[\w'/.-]+", rest) if word not in _FILLERS]
+        if unread and (not partial or _NEGATIONS.intersection(unread)):
+            return None  # a negation left out would turn the reading into its opposite
+        if unread:
+            _keep_unread_road_users(reading, rest)
     except _Unread:
         return None
-    unread = [word for word in re.findall(r"[\w'/.-]+", rest) if word not in _FILLERS]
-    if unread and (not partial or _NEGATIONS.intersection(unread)):
-        return None  # a negation left out would turn the reading into its opposite
     return {
         "subject_words": reading.subject_words,
         "subject_category": one_or_many(reading.subject),
@@ -642,7 +672,7 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         "conditions": reading.conditions,
         "numbers": [],
         "read_by": "rules",
-        **({"unread": unread} if partial else {}),
+        **({"unread": unread, "assumed": reading.assumed} if partial else {}),
     }
 
 
