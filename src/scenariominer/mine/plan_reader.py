@@ -32,7 +32,7 @@ from typing import Any
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/6"
+PLAN_READER_VERSION = "plan-reader/7"
 
 #: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
 _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
