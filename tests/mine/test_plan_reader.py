@@ -412,3 +412,14 @@ def test_stopped_takes_parked_objects_too_but_standing_still_does_not() -> None:
     # a condition read twice is applied once
     plan = read_plan("cars that are stopped or nearly stopped", partial=True)
     assert plan is not None and [c["function"] for c in plan["conditions"]] == ["stopped"]
+
+
+def test_a_partial_reading_skips_up_to_two_unknown_words_before_the_road_user() -> None:
+    plan = read_plan("unattended strollers", partial=True)
+    assert plan is not None and plan["subject_category"] == "STROLLER" and plan["unread"] == ["unattended"]
+    plan = read_plan("lane splitting motorcycles near a bus", partial=True)
+    assert plan is not None and plan["subject_category"] == "MOTORCYCLE"
+    assert plan["unread"] == ["lane", "splitting"] and plan["relations"][0]["function"] == "near_objects"
+    assert read_plan("unattended strollers") is None  # never in full
+    assert read_plan("a runner crossing the street in front of a car", partial=True) is None  # too far in
+    assert read_plan("not moving cars", partial=True) is None  # a negation is never left out

@@ -628,15 +628,24 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
 
     Args:
         description: the request.
-        partial: also read it when some words are not known phrases (the subject must be read
-            and every known phrase must make sense); the plan then lists those words, in order,
-            under ``unread`` (empty when every word was read). A road user named among those
-            words is still required within 10 m (:func:`_keep_unread_road_users`; listed under
-            ``assumed``). A left-out negation or a relative clause after another road user
-            ("... who is ...") still makes it return ``None``.
+        partial: also read it when some words are not known phrases (the subject must be read,
+            after at most two unknown words, and every known phrase must make sense); the plan
+            then lists those words, in order, under ``unread`` (empty when every word was read).
+            A road user named among them is still required within 10 m
+            (:func:`_keep_unread_road_users`; listed under ``assumed``). A left-out negation or a
+            relative clause after another road user ("... who is ...") makes it return ``None``.
     """
     group, subject, text = _leading_subject(description)
-    if subject is None:
+    skipped: list[str] = []
+    if subject is None and partial and group is None:
+        # unknown adjectives before the road user ("*unattended* stroller", "*lane splitting*
+        # motorcycle"): at most two words, read as left out
+        prefix = re.match(r"^\s*((?:[\w'-]+\s+){1,2})", text)
+        if prefix is not None:
+            skipped = prefix.group(1).split()
+            subject = _SUBJECT.match(text[prefix.end() :])
+            text = text[prefix.end() :]
+    if subject is None or _NEGATIONS.intersection(skipped):
         return None
     try:
         reading = _Reading(
@@ -657,7 +666,7 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
                 rest = rest[: found.start()] + " , " + rest[found.end() :]
         if group is not None:
             _as_group(reading, int(group.group("size") or _GROUP_SIZE))
-        unread = [word for word in re.findall(r"[\w'/.-]+", rest) if word not in _FILLERS]
+        unread = skipped + [word for word in re.findall(r"[\w'/.-]+", rest) if word not in _FILLERS]
         if unread and (not partial or _NEGATIONS.intersection(unread)):
             return None  # a negation left out would turn the reading into its opposite
         if unread:
