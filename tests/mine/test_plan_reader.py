@@ -423,3 +423,16 @@ def test_a_partial_reading_skips_up_to_two_unknown_words_before_the_road_user() 
     assert read_plan("unattended strollers") is None  # never in full
     assert read_plan("a runner crossing the street in front of a car", partial=True) is None  # too far in
     assert read_plan("not moving cars", partial=True) is None  # a negation is never left out
+
+
+def test_mine_says_when_a_description_was_read_in_part(tmp_path: Path, av2_log_dir: Path) -> None:
+    from typer.testing import CliRunner
+
+    from scenariominer.cli import app
+
+    args = ["mine", "cars swerving wildly", "--logs", str(av2_log_dir), "--no-bank"]
+    result = CliRunner().invoke(app, [*args, "--store", str(tmp_path / "st")])
+    assert result.exit_code == 0, result.output
+    assert "not read (left out, check the result): swerving wildly" in result.output
+    assert "read in part: 2 word(s)" in result.output
+    assert "category='REGULAR_VEHICLE'" in result.output  # the program of what was read

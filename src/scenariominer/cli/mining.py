@@ -66,6 +66,12 @@ def render_query(report: QueryReport) -> None:
         else:
             out.print("[bold]plan[/bold] (how the description was read):")
             out.print(Text(plain(plan_text(plan))), highlight=False)
+            if plan.get("unread"):
+                out.print(
+                    f"[yellow]read in part:[/yellow] {len(plan['unread'])} word(s) of the description "
+                    "were left out (listed above); check that the matches are what you meant",
+                    soft_wrap=True,
+                )
     if report.program is not None:
         out.print(f"[bold]program[/bold] ({report.source.value}, sha256 {report.program_sha256[:12]}):")
         out.print(Text(plain(report.program.rstrip())), highlight=False)
