@@ -436,3 +436,37 @@ def test_mine_says_when_a_description_was_read_in_part(tmp_path: Path, av2_log_d
     assert "not read (left out, check the result): swerving wildly" in result.output
     assert "read in part: 2 word(s)" in result.output
     assert "category='REGULAR_VEHICLE'" in result.output  # the program of what was read
+
+
+def test_two_cars_ahead_is_the_second_vehicle_in_line_in_the_lane_corridor() -> None:
+    t = T_S
+    zero = const(0.0)
+    scene = LogContext(
+        make_log(
+            [
+                Obj("ego", "EGO_VEHICLE", 10 * t, zero, zero),
+                Obj("first", "REGULAR_VEHICLE", 10 * t + 15, zero, zero),
+                Obj("second", "BOX_TRUCK", 10 * t + 30, zero, zero),
+                Obj("third", "REGULAR_VEHICLE", 10 * t + 45, zero, zero),
+                Obj("next_lane", "REGULAR_VEHICLE", 10 * t + 22, const(3.6), zero),  # not in line
+                Obj("follower", "REGULAR_VEHICLE", 10 * t - 12, zero, zero),
+            ],
+            log_id="line",
+        )
+    )
+
+    def referred(description: str) -> set[str]:
+        plan = read_plan(description)
+        assert plan is not None, description
+        result = run_trusted_program(compile_plan(plan).program, scene, description=description)
+        assert result.ok and result.scenario is not None, result.error
+        return {scene.log.track_ids[int(i)] for i in result.scenario.referred_tracks}
+
+    assert referred("vehicle one car ahead") == {"first"}
+    assert referred("vehicle two cars ahead") == {"second"}
+    assert referred("the vehicle three vehicles in front of the ego vehicle") == {"third"}
+    assert referred("cars two cars ahead") == set()  # the second in line is a truck
+    assert referred("vehicle one car behind the ego vehicle") == {"follower"}
+    assert referred("the ego vehicle two cars behind a box truck") == {"ego"}
+    plan = read_plan("vehicle two cars ahead is braking")
+    assert plan is not None and plan["relations"][0]["argument"] == "rank=2"

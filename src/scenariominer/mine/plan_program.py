@@ -126,7 +126,11 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
     objects = _related_objects(plan, lines)
     for rel in plan.get("relations", []):
         step += 1
-        lines.append(f"step_{step} = {_relation_call(rel, current, objects, plan, notes)}")
+        if rel.get("function") == IN_LINE:
+            call = _in_line_call(rel, current, objects, plan, lines, step)
+        else:
+            call = _relation_call(rel, current, objects, plan, notes)
+        lines.append(f"step_{step} = {call}")
         current = f"step_{step}"
     lines.append(f"output_scenario({current}, description, log_dir, output_dir)")
     return CompiledPlan("\n".join(lines) + "\n", tuple(notes))
@@ -286,6 +290,62 @@ def _relation_call(
             f"relation {name}: {rel.get('other_words')!r} is not one of the planned objects"
         )
     return f"{name}({current}, {other}, log_dir{kwargs})"
+
+
+#: The relation "the N-th vehicle ahead of / behind X in its lane" (phrase rules only: "two cars
+#: ahead"), built from the mining functions by :func:`_in_line_call`.
+IN_LINE = "in_line"
+#: The lane corridor of a line of vehicles: within 50 m, at most 1 m sideways past the box.
+_LINE_CORRIDOR = "within_distance=50, lateral_thresh=1"
+
+
+def _in_line_call(
+    rel: Mapping[str, Any],
+    current: str,
+    objects: Mapping[str, str],
+    plan: Mapping[str, Any],
+    lines: list[str],
+    step: int,
+) -> str:
+    """``current``'s members that are the ``rank``-th vehicle in ``direction`` of the other object.
+
+    The line is the vehicles in that direction of the other object within its lane corridor
+    (:data:`_LINE_CORRIDOR`); the N-th of them has exactly N - 1 of the line between the other
+    object and itself, i.e. on its own opposite side. Defines ``line_<step>`` (and ``after_<step>``)
+    in ``lines``.
+
+    Raises:
+        PlanCompileError: no rank, a direction other than forward/backward, or an unknown object.
+    """
+    found = re.fullmatch(r"rank=(\d+)", str(rel.get("argument") or ""))
+    direction = rel.get("direction")
+    if found is None or int(found.group(1)) < 1 or direction not in ("forward", "backward"):
+        raise PlanCompileError(f"relation {IN_LINE}: needs rank=N >= 1 and direction forward or backward")
+    rank = int(found.group(1))
+    subject_words = str(plan.get("subject_words", ""))
+    category = _category(subject_words, plan.get("subject_category"))
+    anchor = _match_object(str(rel.get("other_words", "")), objects, subject_words, category)
+    if anchor in (None, "subject"):
+        raise PlanCompileError(
+            f"relation {IN_LINE}: {rel.get('other_words')!r} is not one of the planned objects"
+        )
+    line = f"line_{step}"
+    lines.append(f"# the vehicles in line {direction} of {anchor}, in its lane corridor")
+    lines.append(
+        f"{line} = get_objects_in_relative_direction({anchor}, get_objects_of_category(log_dir, "
+        f"category='VEHICLE'), log_dir, direction='{direction}', {_LINE_CORRIDOR})"
+    )
+    back = "backward" if direction == "forward" else "forward"
+    between = f"{line}, log_dir, direction='{back}', {_LINE_CORRIDOR}"
+    members = f"scenario_and([{current}, {line}])"
+    if rank > 1:  # at least rank - 1 of the line between the other object and it ...
+        after = f"after_{step}"
+        lines.append(
+            f"{after} = has_objects_in_relative_direction({members}, {between}, min_number={rank - 1})"
+        )
+        members = after
+    # ... and not rank of them
+    return f"scenario_not(has_objects_in_relative_direction)({members}, {between}, min_number={rank})"
 
 
 def _condition_call(cond: Mapping[str, Any], target: str, notes: list[str]) -> str:

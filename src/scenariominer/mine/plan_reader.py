@@ -277,8 +277,16 @@ _BESIDE = "within_distance=5, lateral_thresh=2"
 _ALONG = "within_distance=25, lateral_thresh=1"
 _EGO = "the ego vehicle"
 
+_IN_LINE_AHEAD = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:ahead|in front|forward)"
+_IN_LINE_BEHIND = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:behind|back)"
+
 #: Phrases after the subject, tried in this order; each match is consumed.
 _PHRASES: tuple[_Phrase, ...] = (
+    # "two cars ahead (of X)": the second vehicle in line ahead of X, the ego when none is named
+    _Phrase(_IN_LINE_AHEAD + r" (?:of|from) {obj}", "in_line", "rank={rank}", "forward"),
+    _Phrase(_IN_LINE_BEHIND + r" (?:(?:of|from) )?{obj}", "in_line", "rank={rank}", "backward"),
+    _Phrase(_IN_LINE_AHEAD, "in_line", "rank={rank}", "forward", implied=_EGO),
+    _Phrase(_IN_LINE_BEHIND, "in_line", "rank={rank}", "backward", implied=_EGO),
     # stated numbers first, so "within 5 m of X" is not read as a bare relation
     _Phrase(
         r"surrounded by (?P<count>\d+) or more {obj} within " + _DIST,
