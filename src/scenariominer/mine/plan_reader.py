@@ -648,11 +648,11 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
     if subject is None and partial and group is None:
         # unknown adjectives before the road user ("*unattended* stroller", "*lane splitting*
         # motorcycle"): at most two words, read as left out
-        prefix = re.match(r"^\s*((?:[\w'-]+\s+){1,2})", text)
-        if prefix is not None:
-            skipped = prefix.group(1).split()
-            subject = _SUBJECT.match(text[prefix.end() :])
-            text = text[prefix.end() :]
+        for n_words in (1, 2):
+            prefix = re.match(rf"^\s*((?:[\w'-]+\s+){{{n_words}}})", text)
+            if prefix is not None and (subject := _SUBJECT.match(text[prefix.end() :])) is not None:
+                skipped, text = prefix.group(1).split(), text[prefix.end() :]
+                break
     if subject is None or _NEGATIONS.intersection(skipped):
         return None
     try:
