@@ -6,9 +6,9 @@ place on the map ("in a bike lane", "near an intersection") and a relation to ot
 ("within 5 m of a stop sign", "behind the ego vehicle", "following another vehicle").
 :func:`read_plan` recognises those phrases and builds the same plan the model's plan step
 (:mod:`scenariominer.mine.plan`) would, so :func:`scenariominer.mine.plan_program.compile_plan`
-turns it into a program with no model call. It reads a description only when **every** word is
-accounted for (a phrase of the tables below, or a filler such as "that are"); any word it does not
-know makes it return ``None`` and the model reads the description instead. It never guesses.
+turns it into a program with no model call. By default it reads a description only when **every**
+word is accounted for (a phrase of the tables below, or a filler such as "that are"); any word it
+does not know makes it return ``None`` and the model reads the description instead.
 
 With ``partial=True`` it also reads a description some of whose words it does not know, as long
 as it reads the subject: the plan of the phrases it knows, with the other words listed under
