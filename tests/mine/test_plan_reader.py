@@ -468,5 +468,9 @@ def test_two_cars_ahead_is_the_second_vehicle_in_line_in_the_lane_corridor() -> 
     assert referred("cars two cars ahead") == set()  # the second in line is a truck
     assert referred("vehicle one car behind the ego vehicle") == {"follower"}
     assert referred("the ego vehicle two cars behind a box truck") == {"ego"}
+    # ordinals and a line with no subject named
+    assert referred("the third vehicle in front of the ego vehicle") == {"third"}
+    assert referred("the second car ahead of the ego vehicle") == set()  # a truck
+    assert referred("one car back from the ego vehicle") == {"follower"}
     plan = read_plan("vehicle two cars ahead is braking")
     assert plan is not None and plan["relations"][0]["argument"] == "rank=2"

@@ -98,6 +98,7 @@ _WORD_NUMBERS = {
     "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6", "seven": "7",
     "eight": "8", "nine": "9", "ten": "10", "twenty": "20", "thirty": "30", "fifty": "50",
 }  # fmt: skip
+_ORDINALS = {"first": "1", "second": "2", "third": "3", "fourth": "4", "fifth": "5"}
 _TO_MPS = {
     "meters per second": 1.0, "metres per second": 1.0, "m/s": 1.0, "mps": 1.0,
     "kilometers per hour": 1 / 3.6, "kilometres per hour": 1 / 3.6, "km/h": 1 / 3.6, "kph": 1 / 3.6,
@@ -721,6 +722,17 @@ def _leading_subject(description: str) -> tuple[re.Match[str] | None, re.Match[s
 
 
 def _normalised_text(description: str) -> str:
-    """Lower case, single spaces, no final full stop, number words as digits ("three" -> "3")."""
+    """Lower case, single spaces, no final full stop, number words as digits ("three" -> "3").
+
+    A place in a line of vehicles is put in the one form the tables read: "the third car forward
+    from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
+    cars back from X".
+    """
     text = " ".join(description.lower().replace(",", " ").split()).rstrip(".!")
-    return re.sub(r"\b(" + "|".join(_WORD_NUMBERS) + r")\b", lambda m: _WORD_NUMBERS[m.group(1)], text)
+    text = re.sub(r"\b(" + "|".join(_WORD_NUMBERS) + r")\b", lambda m: _WORD_NUMBERS[m.group(1)], text)
+    text = re.sub(
+        r"\b(" + "|".join(_ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
+        lambda m: f"{m.group(2)} {_ORDINALS[m.group(1)]} {m.group(2)} ",
+        text,
+    )
+    return re.sub(r"^(\d+ (?:cars?|vehicles?) (?:ahead|in front|forward|behind|back))", r"vehicle \1", text)
