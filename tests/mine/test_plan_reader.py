@@ -474,3 +474,14 @@ def test_two_cars_ahead_is_the_second_vehicle_in_line_in_the_lane_corridor() -> 
     assert referred("one car back from the ego vehicle") == {"follower"}
     plan = read_plan("vehicle two cars ahead is braking")
     assert plan is not None and plan["relations"][0]["argument"] == "rank=2"
+
+
+def test_wheelchair_users_surrounded_objects_and_the_hyphenated_ego() -> None:
+    plan = read_plan("people in wheelchairs near a bus")
+    assert plan is not None and plan["subject_category"] == "WHEELCHAIR"
+    plan = read_plan("vehicles surrounded by bicycles on all sides")
+    assert plan is not None
+    assert [r["direction"] for r in plan["relations"]] == ["left", "right", "forward", "backward"]
+    assert read_plan("pedestrians near the ego-vehicle") == read_plan("pedestrians near the ego vehicle")
+    # "being ..." after another road user is a clause on it: never read in part
+    assert read_plan("car in front of ego-vehicle being cut off", partial=True) is None

@@ -58,7 +58,10 @@ _CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
     (r"(?:motor )?vehicles?", ("VEHICLE",)),
     (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
-    (r"wheelchair users?|wheelchairs?", ("WHEELCHAIR",)),
+    (
+        r"(?:people|persons?|pedestrians?) in (?:a )?wheelchairs?|wheelchair users?|wheelchairs?",
+        ("WHEELCHAIR",),
+    ),
     (r"strollers?|prams?|pushchairs?", ("STROLLER",)),
     (r"pedestrians?|people|persons?|someone|somebody|peds?|walkers?", ("PEDESTRIAN",)),
     (r"dogs?", ("DOG",)),
@@ -415,6 +418,10 @@ _PHRASES: tuple[_Phrase, ...] = (
         "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
     ),
     _Phrase(
+        r"(?:surrounded|boxed in|hemmed in) by {obj} on all (?:four )?sides",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right", "forward", "backward"),
+    ),
+    _Phrase(
         r"(?:boxed|hemmed|squeezed) in by {obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
         r"|on both (?:their |its )?sides)",
         "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
@@ -729,6 +736,7 @@ def _normalised_text(description: str) -> str:
     cars back from X".
     """
     text = " ".join(description.lower().replace(",", " ").split()).rstrip(".!")
+    text = re.sub(r"\bego-(vehicle|car)\b", r"ego \1", text)
     text = re.sub(r"\b(" + "|".join(_WORD_NUMBERS) + r")\b", lambda m: _WORD_NUMBERS[m.group(1)], text)
     text = re.sub(
         r"\b(" + "|".join(_ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
