@@ -250,7 +250,7 @@ def evaluate_nl2prog(
     from scenariominer.api.mining import load_logs
     from scenariominer.mine.context import LogContext
     from scenariominer.mine.loop import ProgramCache
-    from scenariominer.mine.plan_reader import read_plan
+    from scenariominer.mine.plan_reader import rules_plan
 
     if request.limit is not None and request.limit < 0:
         raise EvaluationError(f"limit must be >= 0, got {request.limit}")
@@ -281,9 +281,8 @@ def evaluate_nl2prog(
     reads = gen.plan and gen.plan_rules and gen.plan_program and provider_is_the_loop
 
     def reader(description: str) -> str:
-        if read_plan(description) is not None:
-            return "rules"
-        return "partial" if gen.plan_partial and read_plan(description, partial=True) else "model"
+        plan = rules_plan(description, partial=gen.plan_partial)
+        return "model" if plan is None else "partial" if plan.get("unread") else "rules"
 
     with step(progress, "descriptions", len(entries)):
         return _evaluate_nl2prog(

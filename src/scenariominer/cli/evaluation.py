@@ -357,16 +357,17 @@ def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
         soft_wrap=True,
     )
     readers = ev.by_reader()
+    labels = {
+        "rules": "read by the phrase rules",
+        "partial": "in part (some words left out)",
+        "model": "read by the model",
+    }
     if readers["rules"].n_descriptions or readers["partial"].n_descriptions:
+        shown = [name for name in labels if name != "partial" or readers[name].n_descriptions]
         parts = [
-            f"{label}: {r.n_descriptions}/{n}, mean Jaccard {_jaccard_cell(r.mean_jaccard)} over "
-            f"{r.n_scored_cells} cell(s)"
-            for label, r in (
-                ("read by the phrase rules", readers["rules"]),
-                ("in part (some words left out)", readers["partial"]),
-                ("read by the model", readers["model"]),
-            )
-            if r.n_descriptions or label.startswith("read by")
+            f"{labels[name]}: {readers[name].n_descriptions}/{n}, mean Jaccard "
+            f"{_jaccard_cell(readers[name].mean_jaccard)} over {readers[name].n_scored_cells} cell(s)"
+            for name in shown
         ]
         out.print("; ".join(parts), soft_wrap=True)
     if ev.n_reference_failures:

@@ -264,8 +264,7 @@ def _relation_call(
     func = DSL_FUNCTIONS.get(name)
     if func is None:
         raise PlanCompileError(f"relation {name!r} is not a mining function")
-    subject_words = str(plan.get("subject_words", ""))
-    category = _category(subject_words, plan.get("subject_category"))
+    subject_words, category = _subject(plan)
     other = _match_object(str(rel.get("other_words", "")), objects, subject_words, category)
     rel_words = str(rel.get("subject_words", ""))
     rel_subject = (
@@ -290,6 +289,12 @@ def _relation_call(
             f"relation {name}: {rel.get('other_words')!r} is not one of the planned objects"
         )
     return f"{name}({current}, {other}, log_dir{kwargs})"
+
+
+def _subject(plan: Mapping[str, Any]) -> tuple[str, str | list[str]]:
+    """The plan's subject words and its category (or categories), as relations match objects by them."""
+    subject_words = str(plan.get("subject_words", ""))
+    return subject_words, _category(subject_words, plan.get("subject_category"))
 
 
 #: The relation "the N-th vehicle ahead of / behind X in its lane" (phrase rules only: "two cars
@@ -322,9 +327,7 @@ def _in_line_call(
     if found is None or int(found.group(1)) < 1 or direction not in ("forward", "backward"):
         raise PlanCompileError(f"relation {IN_LINE}: needs rank=N >= 1 and direction forward or backward")
     rank = int(found.group(1))
-    subject_words = str(plan.get("subject_words", ""))
-    category = _category(subject_words, plan.get("subject_category"))
-    anchor = _match_object(str(rel.get("other_words", "")), objects, subject_words, category)
+    anchor = _match_object(str(rel.get("other_words", "")), objects, *_subject(plan))
     if anchor in (None, "subject"):
         raise PlanCompileError(
             f"relation {IN_LINE}: {rel.get('other_words')!r} is not one of the planned objects"

@@ -29,7 +29,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "subject_categories"]
+__all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
 PLAN_READER_VERSION = "plan-reader/7"
@@ -699,6 +699,14 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         "read_by": "rules",
         **({"unread": unread, "assumed": reading.assumed} if partial else {}),
     }
+
+
+def rules_plan(description: str, *, partial: bool) -> dict[str, Any] | None:
+    """The phrase rules' plan: read in full if they can, else (with ``partial``) in part, else ``None``.
+
+    A plan read in part carries a non-empty ``unread``; one read in full has no such key.
+    """
+    return read_plan(description) or (read_plan(description, partial=True) if partial else None)
 
 
 def subject_categories(words: str) -> tuple[str, ...] | None:

@@ -28,7 +28,7 @@ from scenariominer.llm.embeddings import Embedder, Embeddings
 from scenariominer.llm.errors import StructuredOutputError
 from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.plan import extract_plan, plan_text
-from scenariominer.mine.plan_reader import read_plan
+from scenariominer.mine.plan_reader import rules_plan
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
 from scenariominer.retrieval import rank
@@ -220,9 +220,7 @@ class ProgramSynthesizer:
         if not self.config.plan:
             return None
         if description not in self.plans and self.config.plan_rules:
-            read = read_plan(description) or (
-                read_plan(description, partial=True) if self.config.plan_partial else None
-            )
+            read = rules_plan(description, partial=self.config.plan_partial)
             if read is not None:
                 self.plans[description] = read
         if description not in self.plans:
