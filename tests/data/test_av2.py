@@ -449,3 +449,21 @@ def test_writer_refuses_a_log_whose_ego_is_missing_at_an_observed_timestamp(tmp_
     )
     with pytest.raises(ValueError, match="ego is not observed at timestamp_ns=1"):
         write_av2_log(log, tmp_path)
+
+
+def test_reading_a_log_on_poses_at_every_timestamp_does_not_import_scipy(tmp_path: Path) -> None:
+    # scipy (0.4 s and 30 MB of a fresh `scenariominer ingest`) is needed only to interpolate a pose.
+    import subprocess
+    import sys
+
+    folder = _small_log(tmp_path / "L")
+    code = (
+        "import sys; from pathlib import Path; "
+        "from scenariominer.data.adapters.av2 import read_av2_log; "
+        f"log = read_av2_log(Path({str(folder)!r})); "
+        "print(log.n_tracks, 'scipy' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["2", "False"]
+    interpolated = _small_log(tmp_path / "M", pose_t=[-100_000_000, 200_000_000])
+    assert any("interpolated the ego pose" in n for n in read_av2_log(interpolated).notes)

@@ -132,3 +132,25 @@ def test_nul_in_track_ids_is_replaced_so_storage_cannot_merge_them() -> None:
     assert "replaced NUL characters with U+FFFD in 2 track id(s)" in log.notes[0]
     with pytest.raises(LogFormatError, match="differ only by NUL"):
         build_log(track_id=["ego", "ego", "a\x00x", "a\x00x", "a\ufffdx", "a\ufffdx"], **common)  # type: ignore[arg-type]
+
+
+def _slow_ego_rows(car_offsets_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A 1 Hz ego over 10 s and one 10 Hz car per offset, rows sorted by (track, time)."""
+    ego_t = np.arange(11) * 10 * PERIOD_NS
+    cars = [np.arange(100) * PERIOD_NS + off for off in car_offsets_ns]
+    ts = np.concatenate([ego_t, *cars])
+    start = np.zeros(ts.size, dtype=bool)
+    start[np.cumsum([0, ego_t.size, *(c.size for c in cars)])[:-1]] = True
+    return ts, start, np.arange(ts.size) < ego_t.size
+
+
+def test_a_slower_ego_does_not_hide_faster_tracks_on_their_own_clocks() -> None:
+    # The shortcut for logs on one clock bounds the period by the ego's step (here 1 s, ten times the
+    # cars'); it must still snap the cars' 1 µs offsets and refuse clocks too far apart.
+    ts, start, is_ego = _slow_ego_rows(np.arange(1, 6) * 1000)
+    snapped = align_track_clocks(ts, start, is_ego)
+    assert "snapped" in snapped.note and "frame period 100 ms" in snapped.note
+    assert np.unique(snapped.timestamps_ns).size == 101  # the cars' 100 frames and the ego's last at 10 s
+    offsets = np.random.default_rng(3).integers(1, PERIOD_NS, 40)
+    refused = align_track_clocks(*_slow_ego_rows(offsets))
+    assert "different clocks" in refused.problem

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pyarrow as pa
 import pytest
 
 from scenariominer.data.log import Log, LogFormatError, build_log, time_derivative
@@ -260,3 +261,26 @@ def test_an_ego_given_by_id_among_short_category_names_keeps_its_full_category()
         source="test.csv",
     )
     assert log.categories.tolist() == ["EGO_VEHICLE", "TRUCK"]
+
+
+def test_arrow_text_columns_build_the_same_log_as_python_strings() -> None:
+    # The AV2 adapter and the store hand Arrow columns to build_log (codes instead of strings per row);
+    # a dictionary column may repeat a text or hold texts no row uses.
+    ids = ["ego", "b\x00x", "a", "ego", "b\x00x", "a"]
+    cats = ["EGO_VEHICLE", "BUS", "PEDESTRIAN"] * 2
+    fields = {"x_m": [0.0, 5.0, 9.0, 1.0, 6.0, 9.5], "y_m": [0.0] * 6, "yaw_rad": [0.0] * 6}
+    fields.update(length_m=[4.0] * 6, width_m=[2.0] * 6)
+    common = {"log_id": "L", "timestamp_ns": [0, 0, 0, 1, 1, 1], "fields": fields, "source": "t"}
+    plain = build_log(track_id=ids, category=cats, ego_track_id=None, **common)  # type: ignore[arg-type]
+    dictionary = pa.DictionaryArray.from_arrays(
+        pa.array([0, 1, 2, 3, 1, 2], type=pa.int32()), pa.array(["ego", "b\x00x", "a", "ego", "unused"])
+    )
+    arrow = build_log(
+        track_id=dictionary, category=pa.chunked_array([cats[:2], cats[2:]]), ego_track_id="ego", **common
+    )  # type: ignore[arg-type]
+    assert plain.track_ids.tolist() == arrow.track_ids.tolist() == ["ego", "a", "b\ufffdx"]
+    assert plain.categories.tolist() == arrow.categories.tolist() == ["EGO_VEHICLE", "PEDESTRIAN", "BUS"]
+    np.testing.assert_array_equal(plain.x_m, arrow.x_m)
+    assert plain.notes == arrow.notes and "U+FFFD" in arrow.notes[0]
+    with pytest.raises(LogFormatError, match="ego track 'unused' does not occur"):
+        build_log(track_id=dictionary, category=cats, ego_track_id="unused", **common)  # type: ignore[arg-type]

@@ -14,6 +14,7 @@ from scenariominer.geometry import (
     boxes_overlap,
     ctrv_predict,
     point_box_distance_m,
+    quaternion_matrix,
     wrap_angle,
     yaw_rate_radps,
 )
@@ -139,3 +140,16 @@ def test_box_distance_of_parallel_overlapping_and_rotated_boxes() -> None:
     corner = 1 + math.sqrt(2)
     assert box_distance_m(box(0, 0, 0, 4, 2), box(2 + corner, 0, math.pi / 4, 2, 2))[0] == pytest.approx(1.0)
     assert np.isnan(box_distance_m(box(0, 0, 0, 4, 2), box(np.nan, 0, 0, 4, 2))[0])
+
+
+def test_quaternion_matrix_matches_scipy_for_unnormalised_quaternions() -> None:
+    from scipy.spatial.transform import Rotation
+
+    quat = np.random.default_rng(5).normal(size=(50, 4)) * 3.0  # (w, x, y, z), any length
+    expected = Rotation.from_quat(quat, scalar_first=True).as_matrix()
+    np.testing.assert_allclose(quaternion_matrix(quat), expected, atol=1e-12)
+    np.testing.assert_allclose(quaternion_matrix([1.0, 0.0, 0.0, 0.0]), np.eye(3))
+    # a quarter turn about z takes x to y
+    c = math.cos(math.pi / 4)
+    quarter_turn = quaternion_matrix([c, 0.0, 0.0, c])
+    np.testing.assert_allclose(quarter_turn @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-15)

@@ -63,6 +63,23 @@ def _per_track_median_step(steps: NDArray[np.int64], track_of_step: NDArray[np.i
     return np.asarray(0.5 * (s[lo].astype(np.float64) + s[hi].astype(np.float64)), dtype=np.float64)
 
 
+def _nothing_to_do(uniq: NDArray[np.int64], period_bound: float) -> bool:
+    """Whether the log can neither be snapped nor refused, from an upper bound on the frame period.
+
+    The frame period (the smallest per-track median step) is at most any one track's median step,
+    e.g. the ego's; so when no two distinct timestamps ``uniq`` ``(U,)`` are within the snapping
+    tolerance of that bound, and their number fits the limit that the bound allows, the exact
+    period cannot change the outcome and its per-track sort is skipped (the usual case: every
+    track on one clock).
+    """
+    if period_bound <= 0 or uniq.size < 2:
+        return False
+    if float(np.diff(uniq).min()) <= SNAP_FRACTION * period_bound:
+        return False
+    span = float(uniq[-1] - uniq[0])
+    return bool(uniq.size <= MAX_CLOCK_FACTOR * (span / period_bound + 1.0))
+
+
 def align_track_clocks(
     timestamps_ns: NDArray[np.int64], track_start: NDArray[np.bool_], is_ego: NDArray[np.bool_]
 ) -> ClockAlignment:

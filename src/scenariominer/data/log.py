@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 import pyarrow as pa
+import pyarrow.compute as pc
 from numpy.typing import NDArray
 
 from scenariominer import errors as _errors
@@ -246,17 +247,19 @@ class Log:
         **kwargs: Any,
     ) -> Log:
         """Build a log from a long table as written by :meth:`to_arrow` (the store's format)."""
-        cols = {name: table.column(name).to_numpy(zero_copy_only=False) for name in table.column_names}
-        ego_rows = cols.get("is_ego")
         ego_id = None
-        if ego_rows is not None and bool(np.any(ego_rows)):
-            ego_id = str(cols["track_id"][np.flatnonzero(ego_rows)[0]])
-        fields = {k: v for k, v in cols.items() if k in STATE_FIELDS}
+        if "is_ego" in table.column_names:
+            ego_rows = np.flatnonzero(table.column("is_ego").to_numpy(zero_copy_only=False))
+            if ego_rows.size:
+                ego_id = str(table.column("track_id")[int(ego_rows[0])].as_py())
+        fields = {
+            k: table.column(k).to_numpy(zero_copy_only=False) for k in table.column_names if k in STATE_FIELDS
+        }
         return build_log(
             log_id=log_id,
-            track_id=cols["track_id"],
-            category=cols["category"],
-            timestamp_ns=cols["timestamp_ns"],
+            track_id=table.column("track_id"),
+            category=table.column("category"),
+            timestamp_ns=table.column("timestamp_ns").to_numpy(zero_copy_only=False),
             fields=fields,
             ego_track_id=ego_id,
             source=source,
@@ -270,8 +273,8 @@ class Log:
 def build_log(
     *,
     log_id: str,
-    track_id: Sequence[Any] | NDArray[Any],
-    category: Sequence[Any] | NDArray[Any],
+    track_id: Sequence[Any] | NDArray[Any] | pa.Array | pa.ChunkedArray,
+    category: Sequence[Any] | NDArray[Any] | pa.Array | pa.ChunkedArray,
     timestamp_ns: Sequence[int] | NDArray[np.int64],
     fields: Mapping[str, NDArray[np.float64] | Sequence[float]],
     ego_track_id: str | None,
@@ -308,7 +311,7 @@ def build_log(
 
     Args:
         log_id: identifier of the resulting log.
-        track_id: ``(M,)`` track identifier per row.
+        track_id: ``(M,)`` track identifier per row (a sequence, numpy or Arrow array).
         category: ``(M,)`` category name per row (Argoverse 2 name or alias).
         timestamp_ns: ``(M,)`` integer nanoseconds per row.
         fields: state columns named as in :data:`STATE_FIELDS`, each ``(M,)``; at least
@@ -324,12 +327,13 @@ def build_log(
         max_cells: largest ``tracks x timestamps`` grid accepted (:data:`MAX_LOG_CELLS`).
     """
     notes: list[str] = []
-    tid = np.asarray(track_id).astype(str)
-    cat_raw = np.asarray(category).astype(str)
-    m = tid.shape[0]
+    m = len(track_id)
     if m == 0:
         raise LogFormatError(source, "the log has no rows")
-    tid = _replace_nul(tid, source, notes)
+    # Texts become integer codes once (track ids repeat on every row; comparing, sorting and
+    # gathering strings per row cost most of a real log's build time); codes follow text order.
+    texts, rows = _encode(track_id)
+    names, tcode = _sorted_codes(_replace_nul(texts, source, notes), rows)
     missing = [f for f in REQUIRED_FIELDS if f not in fields]
     if missing:
         raise LogFormatError(source, f"missing required column(s) {missing}")
@@ -356,32 +360,39 @@ def build_log(
         if arr.shape != (m,):
             raise LogFormatError(source, f"column {name!r} has {arr.shape[0]} rows, expected {m}")
         cols[name] = arr
-    if len({tid.shape[0], cat_raw.shape[0], ts_i.shape[0]}) != 1:
+    if len({m, len(category), ts_i.shape[0]}) != 1:
         raise LogFormatError(source, "track_id, category and timestamp columns differ in length")
 
-    # Categories: canonicalise each distinct name once.
-    uniq, inverse = np.unique(cat_raw, return_inverse=True)
+    # Categories: canonicalise each distinct name once (aliases may merge names).
+    raw_names, raw_code = _encode(category)
     mapped = []
-    for name in uniq:
+    for name in raw_names:
         try:
             mapped.append(canonical_category(str(name), category_aliases))
         except UnknownCategoryError as exc:
             raise LogFormatError(source, str(exc)) from None
-    cat = np.asarray(mapped, dtype=object)[inverse].astype(str)
+    cat_names, canon_of_raw = np.unique(np.asarray(mapped + [EGO_CATEGORY], dtype=str), return_inverse=True)
+    ccode = canon_of_raw[:-1][raw_code]
+    ego_cat = int(canon_of_raw[-1])
 
     if ego_track_id is None:
-        ego_rows = np.flatnonzero(cat == EGO_CATEGORY)
-        if ego_rows.size == 0:
+        ego_codes = np.unique(tcode[ccode == ego_cat])
+        if ego_codes.size == 0:
             raise LogFormatError(
                 source, "no ego track: no row has category EGO_VEHICLE and no ego id was given"
             )
-        ego_ids = np.unique(tid[ego_rows])
-        if ego_ids.size > 1:
-            raise LogFormatError(source, f"several tracks have category EGO_VEHICLE: {ego_ids[:5].tolist()}")
-        ego_track_id = str(ego_ids[0])
-    elif not np.any(tid == ego_track_id):
-        raise LogFormatError(source, f"ego track {ego_track_id!r} does not occur in the data")
-    cat = np.where(tid == ego_track_id, EGO_CATEGORY, cat)  # widens a short dtype (all "TRUCK")
+        if ego_codes.size > 1:
+            raise LogFormatError(
+                source, f"several tracks have category EGO_VEHICLE: {names[ego_codes[:5]].tolist()}"
+            )
+        ego_code = int(ego_codes[0])
+        ego_track_id = str(names[ego_code])
+    else:
+        hit = np.flatnonzero(names == ego_track_id)
+        if hit.size == 0 or not np.any(tcode == hit[0]):
+            raise LogFormatError(source, f"ego track {ego_track_id!r} does not occur in the data")
+        ego_code = int(hit[0])
+    ccode = np.where(tcode == ego_code, ego_cat, ccode)
 
     # Drop rows whose geometry is unusable (documented repair; preprocessing interpolates the gap).
     finite = np.ones(m, dtype=bool)
@@ -404,17 +415,17 @@ def build_log(
         ):
             if count:
                 notes.append(f"dropped {count} row(s) with {what} (gaps are interpolated)")
-        tid, cat, ts_i = tid[geom], cat[geom], ts_i[geom]
+        tcode, ccode, ts_i = tcode[geom], ccode[geom], ts_i[geom]
         cols = {k: v[geom] for k, v in cols.items()}
-        if tid.size == 0:
+        if tcode.size == 0:
             raise LogFormatError(source, "no row has a usable position, yaw and size")
 
     # Sort by (track, time); detect duplicates.
-    order = np.lexsort((ts_i, tid))
-    if not np.all(order == np.arange(order.size)):
-        tid, cat, ts_i = tid[order], cat[order], ts_i[order]
+    order = np.lexsort((ts_i, tcode))
+    if not np.all(order[1:] > order[:-1]):
+        tcode, ccode, ts_i = tcode[order], ccode[order], ts_i[order]
         cols = {k: v[order] for k, v in cols.items()}
-    dup = (tid[1:] == tid[:-1]) & (ts_i[1:] == ts_i[:-1])
+    dup = (tcode[1:] == tcode[:-1]) & (ts_i[1:] == ts_i[:-1])
     if dup.any():
         stacked = np.stack([np.nan_to_num(v, nan=np.inf) for v in cols.values()], axis=1)
         conflicting = dup & np.any(stacked[1:] != stacked[:-1], axis=1)
@@ -423,46 +434,51 @@ def build_log(
             raise LogFormatError(
                 source,
                 f"{int(conflicting.sum())} duplicate (track, timestamp) row(s) with different values, "
-                f"e.g. track {str(tid[i])!r} at timestamp_ns={int(ts_i[i])}",
+                f"e.g. track {str(names[tcode[i]])!r} at timestamp_ns={int(ts_i[i])}",
             )
         keep = np.concatenate([[True], ~dup])
         notes.append(f"collapsed {int(dup.sum())} exact duplicate row(s)")
-        tid, cat, ts_i = tid[keep], cat[keep], ts_i[keep]
+        tcode, ccode, ts_i = tcode[keep], ccode[keep], ts_i[keep]
         cols = {k: v[keep] for k, v in cols.items()}
 
     # Category must be constant per track.
-    first = np.concatenate([[True], tid[1:] != tid[:-1]])
-    track_names = tid[first]
+    first = np.concatenate([[True], tcode[1:] != tcode[:-1]])
+    track_codes = tcode[first]
     track_start = np.flatnonzero(first)
     track_of_row = np.cumsum(first) - 1
-    track_cat = cat[first]
-    if np.any(cat != track_cat[track_of_row]):
-        i = int(np.flatnonzero(cat != track_cat[track_of_row])[0])
+    track_ccode = ccode[first]
+    changed = ccode != track_ccode[track_of_row]
+    if np.any(changed):
+        i = int(np.flatnonzero(changed)[0])
         raise LogFormatError(
-            source, f"track {str(tid[i])!r} changes category ({track_cat[track_of_row[i]]} → {cat[i]})"
+            source,
+            f"track {str(names[tcode[i]])!r} changes category "
+            f"({cat_names[track_ccode[track_of_row[i]]]} → {cat_names[ccode[i]]})",
         )
 
     # One-frame tracks.
-    counts = np.diff(np.append(track_start, tid.size))
+    counts = np.diff(np.append(track_start, tcode.size))
     short = counts < min_track_frames
-    ego_pos = int(np.flatnonzero(track_names == ego_track_id)[0])
+    ego_pos = int(np.flatnonzero(track_codes == ego_code)[0])
     if short[ego_pos]:
         raise LogFormatError(source, f"the ego track has only {int(counts[ego_pos])} frame(s)")
     if short.any():
         notes.append(
             f"dropped {int(short.sum())} track(s) with fewer than {min_track_frames} frames "
-            f"(e.g. {track_names[short][:3].tolist()})"
+            f"(e.g. {names[track_codes[short][:3]].tolist()})"
         )
         keep_rows = ~short[track_of_row]
-        tid, cat, ts_i = tid[keep_rows], cat[keep_rows], ts_i[keep_rows]
+        tcode, ts_i = tcode[keep_rows], ts_i[keep_rows]
         cols = {k: v[keep_rows] for k, v in cols.items()}
-        track_names = track_names[~short]
-        track_cat = track_cat[~short]
-        first = np.concatenate([[True], tid[1:] != tid[:-1]])
+        track_codes = track_codes[~short]
+        track_ccode = track_ccode[~short]
+        first = np.concatenate([[True], tcode[1:] != tcode[:-1]])
         track_of_row = np.cumsum(first) - 1
+    track_names = names[track_codes]
+    track_cat = cat_names[track_ccode]
 
     # Tracks on their own clocks (µs offsets, per-row float rounding): one clock, or refused.
-    clocks = align_track_clocks(ts_i, first, tid == ego_track_id)
+    clocks = align_track_clocks(ts_i, first, tcode == ego_code)
     if clocks.problem:
         raise LogFormatError(source, clocks.problem)
     if clocks.note:
@@ -470,7 +486,7 @@ def build_log(
         ts_i = clocks.timestamps_ns
 
     # Put the ego first.
-    ego_pos = int(np.flatnonzero(track_names == ego_track_id)[0])
+    ego_pos = int(np.flatnonzero(track_codes == ego_code)[0])
     perm = np.concatenate([[ego_pos], np.delete(np.arange(track_names.size), ego_pos)])
     rank = np.empty_like(perm)
     rank[perm] = np.arange(perm.size)
@@ -478,8 +494,7 @@ def build_log(
     track_names = track_names[perm]
     track_cat = track_cat[perm]
 
-    timestamps = np.unique(ts_i)
-    col_t = np.searchsorted(timestamps, ts_i)
+    timestamps, col_t = np.unique(ts_i, return_inverse=True)
     n, t = track_names.size, timestamps.size
     if n * t > max_cells:
         raise LogFormatError(
@@ -538,31 +553,60 @@ def build_log(
     )
 
 
-def _has_nul(names: NDArray[np.str_]) -> NDArray[np.bool_]:
-    """Whether each string holds a NUL character (numpy pads with NULs, so look before the last char)."""
-    width = names.dtype.itemsize // 4
-    if names.size == 0 or width == 0:
-        return np.zeros(names.shape, dtype=bool)
-    codes = np.ascontiguousarray(names).view(np.uint32).reshape(names.size, width)
-    nonzero = codes != 0
-    length = width - np.argmax(nonzero[:, ::-1], axis=1)
-    return np.asarray(nonzero.any(axis=1) & (nonzero.sum(axis=1) < length), dtype=bool)
+def _encode(values: Any) -> tuple[list[str], NDArray[np.intp]]:
+    """The distinct texts of ``values`` ``(M,)`` (``K``, in order of appearance) and each row's index.
+
+    ``values`` is a sequence, a numpy array or an Arrow array (a dictionary-encoded one is used as
+    it is). Arrow hashes the texts once: several times faster than sorting ``M`` numpy strings.
+    """
+    if isinstance(values, pa.ChunkedArray):
+        values = values.combine_chunks()
+    if not isinstance(values, pa.Array):
+        # through Python strings: Arrow would cut a numpy string at its first NUL character
+        arr = np.asarray(values)
+        values = pa.array((arr if arr.dtype.kind == "U" else arr.astype(str)).tolist(), type=pa.string())
+    elif not pa.types.is_dictionary(values.type) and not pa.types.is_string(values.type):
+        values = values.cast(pa.string())
+    if values.null_count:
+        values = values.fill_null("None")
+    encoded = values if pa.types.is_dictionary(values.type) else pc.dictionary_encode(values)
+    texts = [str(t) for t in encoded.dictionary.to_pylist()]
+    rows = encoded.indices.to_numpy(zero_copy_only=False).astype(np.intp)
+    if len(set(texts)) != len(texts):  # a dictionary-encoded input may repeat a text
+        uniq = list(dict.fromkeys(texts))
+        index = {t: i for i, t in enumerate(uniq)}
+        rows = np.asarray([index[t] for t in texts], dtype=np.intp)[rows]
+        texts = uniq
+    return texts, rows
 
 
-def _replace_nul(tid: NDArray[np.str_], source: str | Path, notes: list[str]) -> NDArray[np.str_]:
-    """Track ids with a NUL character, which Arrow cuts off when storing, get U+FFFD instead."""
-    if not _has_nul(tid).any():
-        return tid
-    names = np.unique(tid)
-    bad = _has_nul(names)
-    fixed_names = np.asarray(["\ufffd".join(str(n).split("\x00")) for n in names], dtype=str)
-    if np.unique(fixed_names).size != names.size:
+def _sorted_codes(texts: list[str], rows: NDArray[np.intp]) -> tuple[NDArray[np.str_], NDArray[np.intp]]:
+    """``texts`` sorted ``(K,)`` and each row's index into the sorted array ``(M,)``.
+
+    A text that occurs in no row is kept (it is never referred to).
+    """
+    order = sorted(range(len(texts)), key=texts.__getitem__)
+    rank = np.empty(len(texts), dtype=np.intp)
+    rank[order] = np.arange(len(texts))
+    return np.asarray([texts[i] for i in order], dtype=str), rank[rows]
+
+
+def _replace_nul(texts: list[str], source: str | Path, notes: list[str]) -> list[str]:
+    """Track ids with a NUL character, which Arrow cuts off when storing, get U+FFFD instead.
+
+    ``texts`` are the distinct ids; the result keeps their order and must stay distinct.
+    """
+    bad = [t for t in texts if "\x00" in t]
+    if not bad:
+        return texts
+    fixed = ["\ufffd".join(t.split("\x00")) for t in texts]
+    if len(set(fixed)) != len(fixed):
         raise LogFormatError(source, "track ids differ only by NUL characters (cannot be stored apart)")
     notes.append(
-        f"replaced NUL characters with U+FFFD in {int(bad.sum())} track id(s) "
-        f"(e.g. {str(names[bad][0])!r}; a NUL would cut the id short when stored)"
+        f"replaced NUL characters with U+FFFD in {len(bad)} track id(s) "
+        f"(e.g. {bad[0]!r}; a NUL would cut the id short when stored)"
     )
-    return np.asarray(fixed_names[np.searchsorted(names, tid)], dtype=str)
+    return fixed
 
 
 def time_derivative(values: FloatArray, t_s: FloatArray) -> FloatArray:

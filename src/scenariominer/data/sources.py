@@ -35,9 +35,19 @@ class LogSource:
     format: str
     path: Path
     files: tuple[Path, ...] = field(default_factory=tuple)
+    _hash: list[str] = field(default_factory=list, init=False, repr=False, compare=False)
 
     def content_hash(self) -> str:
-        """SHA-256 over the names and bytes of :attr:`files` (sorted), hex-encoded."""
+        """SHA-256 over the names and bytes of :attr:`files` (sorted), hex-encoded.
+
+        Computed once per object (the ingestion loop and the reader both ask for it); a new
+        :class:`LogSource` from discovery hashes the files again.
+        """
+        if not self._hash:
+            self._hash.append(self._compute_hash())
+        return self._hash[0]
+
+    def _compute_hash(self) -> str:
         h = hashlib.sha256(self.format.encode())
         for f in sorted(self.files):
             h.update(f.name.encode())

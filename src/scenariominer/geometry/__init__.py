@@ -5,7 +5,7 @@ or tracks × tracks × timestamps × horizon steps) and propagate NaN where an i
 are radians counter-clockwise from the world +x axis; lengths are metres; times seconds.
 
 * :mod:`.angles`: :func:`wrap_angle` (the one convention, ``[-pi, pi)``).
-* :mod:`.frames`: world offsets into a heading's frame and back; rotation matrices.
+* :mod:`.frames`: world offsets into a heading's frame and back; rotation matrices of quaternions.
 * :mod:`.boxes`: :class:`OrientedBoxes`, corners, separating-axis overlap, point/box distances.
 * :mod:`.kinematics`: yaw rate (of any angle) from samples, path curvature, CTRV prediction.
 """
@@ -17,7 +17,7 @@ from scenariominer.geometry.boxes import (
     boxes_overlap,
     point_box_distance_m,
 )
-from scenariominer.geometry.frames import from_local, rotate_xy, to_local
+from scenariominer.geometry.frames import from_local, quaternion_matrix, rotate_xy, to_local
 from scenariominer.geometry.kinematics import ctrv_predict, path_curvature_1pm, yaw_rate_radps
 
 __all__ = [
@@ -28,6 +28,7 @@ __all__ = [
     "from_local",
     "path_curvature_1pm",
     "point_box_distance_m",
+    "quaternion_matrix",
     "rotate_xy",
     "to_local",
     "wrap_angle",

@@ -1,4 +1,4 @@
-"""SE(2) frames: world offsets expressed in the frame of a heading (forward, left) and back."""
+"""Frames: world offsets in the frame of a heading (forward, left) and back; quaternion rotations."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from numpy.typing import ArrayLike
 
 from scenariominer.geometry.angles import FloatArray
 
-__all__ = ["from_local", "rotate_xy", "to_local"]
+__all__ = ["from_local", "quaternion_matrix", "rotate_xy", "to_local"]
 
 
 def to_local(dx_m: ArrayLike, dy_m: ArrayLike, yaw_rad: ArrayLike) -> tuple[FloatArray, FloatArray]:
@@ -32,3 +32,21 @@ def rotate_xy(xy: ArrayLike, theta_rad: float) -> FloatArray:
     p = np.asarray(xy, dtype=np.float64)
     x, y = from_local(p[..., 0], p[..., 1], theta_rad)
     return np.stack([x, y], axis=-1)
+
+
+def quaternion_matrix(quat_wxyz: ArrayLike) -> FloatArray:
+    """``(..., 3, 3)`` rotation matrices of quaternions ``(..., 4)`` (w, x, y, z; normalised here).
+
+    The Hamilton convention of Argoverse 2 and scipy (``Rotation.from_quat(q, scalar_first=True)``);
+    a zero quaternion gives NaN.
+    """
+    q = np.asarray(quat_wxyz, dtype=np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    rows = (
+        (1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y)),
+        (2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)),
+        (2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)),
+    )
+    return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2)

@@ -36,13 +36,12 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.feather as feather
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation, Slerp
 
 from scenariominer.config import Config
 from scenariominer.data.categories import EGO_CATEGORY
 from scenariominer.data.log import FloatArray, Log, LogFormatError, build_log
 from scenariominer.data.sources import LogSource
-from scenariominer.geometry import to_local, wrap_angle
+from scenariominer.geometry import quaternion_matrix, to_local, wrap_angle
 
 ANNOTATIONS_WITH_EGO_FILE = "annotations_with_ego.feather"
 ANNOTATIONS_FILE = "annotations.feather"
@@ -192,15 +191,17 @@ def _floats(table: pa.Table, *names: str) -> FloatArray:
     return np.stack([np.array(table.column(n).to_numpy(), dtype=np.float64) for n in names], axis=1)
 
 
-def _strings(table: pa.Table, name: str) -> NDArray[np.str_]:
-    """A text column as a numpy array, each distinct text converted once (a log repeats its ids)."""
+def _strings(table: pa.Table, name: str) -> pa.Array:
+    """A text column as one Arrow string array (kept in Arrow: build_log encodes it without copies)."""
     col = table.column(name)
     if pa.types.is_dictionary(col.type):
         col = col.cast(pa.string())  # chunks may hold different dictionaries
-    encoded = pc.dictionary_encode(col.combine_chunks())  # nulls were refused by _read_table
-    names = np.asarray(encoded.dictionary.to_pylist(), dtype=str)
-    rows: NDArray[np.intp] = encoded.indices.to_numpy(zero_copy_only=False).astype(np.intp)
-    return names[rows]
+    return col.combine_chunks()  # nulls were refused by _read_table
+
+
+def _is(column: pa.Array, text: str) -> NDArray[np.bool_]:
+    """``(M,)`` whether each row of a text column equals ``text``."""
+    return np.asarray(pc.equal(column, text).to_numpy(zero_copy_only=False), dtype=bool)
 
 
 def _check_quaternions(quat: FloatArray, path: Path, timestamps: NDArray[np.int64], what: str) -> None:
@@ -213,13 +214,6 @@ def _check_quaternions(quat: FloatArray, path: Path, timestamps: NDArray[np.int6
             f"{int(bad.sum())} {what} row(s) have a non-finite or zero rotation quaternion "
             f"(first at timestamp_ns={int(timestamps[i])}: qw,qx,qy,qz={quat[i].tolist()})",
         )
-
-
-def _x_axis(quat_wxyz: FloatArray) -> FloatArray:
-    """``(N, 3)`` image of the x axis under the rotations ``(N, 4)`` (w, x, y, z; normalised here)."""
-    q = quat_wxyz / np.linalg.norm(quat_wxyz, axis=1, keepdims=True)
-    w, x, y, z = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
-    return np.stack([1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + w * z), 2.0 * (x * z - w * y)], axis=1)
 
 
 class _EgoPoses:
@@ -241,11 +235,15 @@ class _EgoPoses:
             raise LogFormatError(path, f"{dup.size} duplicate pose timestamp(s), e.g. {int(t_ns[dup[0]])}")
         self.path = path
         self.t_ns = t_ns
-        self.rotation = Rotation.from_quat(quat, scalar_first=True)
+        self.quat_wxyz = quat / np.linalg.norm(quat, axis=1, keepdims=True)
         self.xyz = xyz
 
-    def at(self, t_ns: NDArray[np.int64]) -> tuple[Rotation, FloatArray, int]:
-        """Poses at ``t_ns`` ``(U,)``: rotations, ``(U, 3)`` translations, number interpolated."""
+    def at(self, t_ns: NDArray[np.int64]) -> tuple[FloatArray, FloatArray, int]:
+        """Poses at ``t_ns`` ``(U,)``.
+
+        Returns:
+            Rotations ``(U, 3, 3)``, translations ``(U, 3)``, and how many poses were interpolated.
+        """
         lo, hi = int(self.t_ns[0]), int(self.t_ns[-1])
         outside = (t_ns < lo) | (t_ns > hi)
         if outside.any():
@@ -259,7 +257,7 @@ class _EgoPoses:
         exact = self.t_ns[np.minimum(pos, self.t_ns.size - 1)] == t_ns
         quat = np.empty((t_ns.size, 4))
         xyz = np.empty((t_ns.size, 3))
-        quat[exact] = self.rotation[pos[exact]].as_quat()
+        quat[exact] = self.quat_wxyz[pos[exact]]
         xyz[exact] = self.xyz[pos[exact]]
         n_interp = int((~exact).sum())
         if n_interp:
@@ -267,10 +265,14 @@ class _EgoPoses:
             t0 = self.t_ns[0]
             rel = (self.t_ns - t0).astype(np.float64)
             query = (t_ns[~exact] - t0).astype(np.float64)
-            quat[~exact] = Slerp(rel, self.rotation)(query).as_quat()
+            # scipy only here (a pose missing at an annotation time is rare; it costs 0.4 s to import)
+            from scipy.spatial.transform import Rotation, Slerp
+
+            rotations = Rotation.from_quat(self.quat_wxyz, scalar_first=True)
+            quat[~exact] = Slerp(rel, rotations)(query).as_quat(scalar_first=True)
             for d in range(3):
                 xyz[~exact, d] = np.interp(query, rel, self.xyz[:, d])
-        return Rotation.from_quat(quat), xyz, n_interp
+        return quaternion_matrix(quat), xyz, n_interp
 
 
 def _checked_map_dir(map_dir: Path) -> tuple[Path | None, str]:
@@ -346,36 +348,38 @@ def read_av2_log(
 
     poses = _EgoPoses(pose_path)
     notes: list[str] = []
-    ego_rows = category == EGO_CATEGORY
+    is_ego = _is(category, EGO_CATEGORY)
     ego_id: str | None = None
-    if not ego_rows.any():
+    if not is_ego.any():
         # annotations.feather has no ego rows: synthesise the ego track from the poses.
         ego_id = str(uuid.uuid5(_EGO_NAMESPACE, log_dir.name))
         uniq_t = np.unique(t_ns)
         k = uniq_t.size
         t_ns = np.concatenate([t_ns, uniq_t])
-        track = np.concatenate([track, np.full(k, ego_id)])
-        category = np.concatenate([category, np.full(k, EGO_CATEGORY)])
+        track = pa.concat_arrays([track.cast(pa.string()), pa.array([ego_id] * k, type=pa.string())])
+        category = pa.concat_arrays(
+            [category.cast(pa.string()), pa.array([EGO_CATEGORY] * k, type=pa.string())]
+        )
+        is_ego = np.concatenate([is_ego, np.ones(k, dtype=bool)])
         quat = np.concatenate([quat, np.tile([1.0, 0.0, 0.0, 0.0], (k, 1))])
         t_ego = np.concatenate([t_ego, np.zeros((k, 3))])
         size = np.concatenate([size, np.tile(AV2_EGO_SIZE_M, (k, 1))])
         notes.append(f"ego track synthesised from {POSES_FILE} at {k} annotation timestamp(s)")
 
     uniq_t, inverse = np.unique(t_ns, return_inverse=True)
-    rot_pose, xyz_pose, n_interp = poses.at(uniq_t)
+    mat_pose, xyz_pose, n_interp = poses.at(uniq_t)
     if n_interp:
         notes.append(
             f"interpolated the ego pose at {n_interp} annotation timestamp(s) missing from {POSES_FILE}"
         )
-    # One 3x3 matrix per distinct timestamp, gathered per row: the same rotation as composing
-    # scipy Rotations row by row, without building N Rotation objects (8 ms per real log).
-    mat_rows = np.asarray(rot_pose.as_matrix(), dtype=np.float64).reshape(-1, 3, 3)[inverse]
+    # One 3x3 matrix per distinct timestamp, gathered per row; a box's heading is the image of
+    # its own x axis (the first column of its rotation).
+    mat_rows = mat_pose[inverse]
     xyz_city = np.einsum("nij,nj->ni", mat_rows, t_ego) + xyz_pose[inverse]
-    heading = np.einsum("nij,nj->ni", mat_rows, _x_axis(quat))
+    heading = np.einsum("nij,nj->ni", mat_rows, quaternion_matrix(quat)[:, :, 0])
     yaw_city = np.arctan2(heading[:, 1], heading[:, 0])
     # The ego's box centre lies AV2_EGO_CENTER_OFFSET_M ahead of the pose (rear axle) along its heading
     # (in the ground plane, so Log.ego_pose_xy_m gives the pose back exactly; z stays the pose's).
-    is_ego = category == EGO_CATEGORY
     xyz_city[is_ego, 0] += AV2_EGO_CENTER_OFFSET_M * np.cos(yaw_city[is_ego])
     xyz_city[is_ego, 1] += AV2_EGO_CENTER_OFFSET_M * np.sin(yaw_city[is_ego])
 
