@@ -257,6 +257,21 @@ def _(root: Path) -> list[Path]:
 
 
 @case(
+    "av2_ego_rows_all_unusable",
+    "av2",
+    "NaN `length_m` in every row of the ego",
+    "rejected",
+    r"annotations_with_ego\.feather: the ego track '[^']+' has no row with a usable position, yaw and size",
+)
+def _(root: Path) -> list[Path]:
+    def change(t: pa.Table) -> pa.Table:
+        ego = np.asarray(pc.equal(t.column("category"), "EGO_VEHICLE").to_numpy(zero_copy_only=False))
+        return _where(t, "length_m", ego, np.nan)
+
+    return _broken(root, ANN, change)
+
+
+@case(
     "av2_zero_size",
     "av2",
     "`length_m` of 0",

@@ -296,8 +296,8 @@ def build_log(
     * unsorted rows are sorted (no information is lost);
     * exact duplicate rows are collapsed;
     * rows with NaN/inf position, yaw or size, or a coordinate beyond :data:`MAX_COORDINATE_M`, are
-      dropped (preprocessing interpolates the gap); a zero or negative length or width becomes
-      :data:`MIN_BOX_SIZE_M`;
+      dropped (preprocessing interpolates the gap; an ego with no row left is an error); a zero or
+      negative length or width becomes :data:`MIN_BOX_SIZE_M`;
     * timestamps outside the int64 range (e.g. a wrapped unsigned value) are an error;
     * tracks stamped by their own clocks (timestamps a few µs apart) are snapped onto one clock, and
       a log whose clocks are too far apart to snap, or whose grid would exceed ``max_cells``, is an
@@ -419,6 +419,10 @@ def build_log(
         cols = {k: v[geom] for k, v in cols.items()}
         if tcode.size == 0:
             raise LogFormatError(source, "no row has a usable position, yaw and size")
+        if not np.any(tcode == ego_code):
+            raise LogFormatError(
+                source, f"the ego track {ego_track_id!r} has no row with a usable position, yaw and size"
+            )
 
     # Sort by (track, time); detect duplicates.
     order = np.lexsort((ts_i, tcode))
