@@ -103,6 +103,33 @@ def _(root: Path) -> list[Path]:
 
 
 @case(
+    "map_lane_id_over_64_bits",
+    "map",
+    "lane id 2**70 (ids are stored as 64-bit integers)",
+    "repaired",
+    _NO_MAP + r"lane segment \d+ has a malformed field \(id \d+ does not fit 64 bits\)",
+    check=_store_has_no_map,
+)
+def _(root: Path) -> list[Path]:
+    return _edited_map(root, lambda d: d["lane_segments"]["1"].update(id=2**70))
+
+
+@case(
+    "map_coordinate_1e300",
+    "map",
+    "a crossing corner at x = 1e300 m",
+    "repaired",
+    _NO_MAP + r"pedestrian crossing \d+ edge1 has a coordinate beyond 1e\+07 m",
+    check=_store_has_no_map,
+)
+def _(root: Path) -> list[Path]:
+    def edit(doc: dict[str, Any]) -> None:
+        next(iter(doc["pedestrian_crossings"].values()))["edge1"][0]["x"] = 1e300
+
+    return _edited_map(root, edit)
+
+
+@case(
     "map_lane_unknown_type",
     "map",
     "lane of type `HOVERCRAFT`",

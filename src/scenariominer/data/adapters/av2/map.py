@@ -30,7 +30,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
-from scenariominer.data.log import LogFormatError
+from scenariominer.data.log import MAX_COORDINATE_M, LogFormatError
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -413,11 +413,21 @@ def _points(raw: Any, path: Path, what: str, min_points: int) -> FloatArray:
         raise LogFormatError(path, f"{what} has {pts.shape[0]} point(s), at least {min_points} needed")
     if not np.all(np.isfinite(pts)):
         raise LogFormatError(path, f"{what} has non-finite coordinates")
+    if np.any(np.abs(pts[:, :2]) > MAX_COORDINATE_M):
+        raise LogFormatError(path, f"{what} has a coordinate beyond {MAX_COORDINATE_M:.0e} m")
     return pts
 
 
+def _id(value: Any) -> int:
+    """A record id or reference: an integer that fits 64 bits (ids are stored as int64)."""
+    out = int(value)
+    if not -(2**63) <= out < 2**63:
+        raise OverflowError(f"id {out} does not fit 64 bits")
+    return out
+
+
 def _opt_int(value: Any) -> int | None:
-    return None if value is None else int(value)
+    return None if value is None else _id(value)
 
 
 def _parse_lane(raw: Any, path: Path) -> LaneSegment:
@@ -434,15 +444,15 @@ def _parse_lane(raw: Any, path: Path) -> LaneSegment:
         raise LogFormatError(path, f"{what} lacks the key {exc.args[0]!r}") from None
     try:
         return LaneSegment(
-            id=int(raw["id"]),
+            id=_id(raw["id"]),
             lane_type=lane_type,
             is_intersection=bool(raw["is_intersection"]),
             left_boundary_m=_points(raw["left_lane_boundary"], path, f"{what} left_lane_boundary", 2),
             right_boundary_m=_points(raw["right_lane_boundary"], path, f"{what} right_lane_boundary", 2),
             left_mark_type=str(raw.get("left_lane_mark_type", "NONE")),
             right_mark_type=str(raw.get("right_lane_mark_type", "NONE")),
-            successors=tuple(int(i) for i in raw.get("successors") or ()),
-            predecessors=tuple(int(i) for i in raw.get("predecessors") or ()),
+            successors=tuple(_id(i) for i in raw.get("successors") or ()),
+            predecessors=tuple(_id(i) for i in raw.get("predecessors") or ()),
             left_neighbor_id=_opt_int(raw.get("left_neighbor_id")),
             right_neighbor_id=_opt_int(raw.get("right_neighbor_id")),
         )
@@ -460,7 +470,7 @@ def _parse_crossing(raw: Any, path: Path) -> PedestrianCrossing:
         raise LogFormatError(path, f"{what} is not an object")
     try:
         return PedestrianCrossing(
-            id=int(raw["id"]),
+            id=_id(raw["id"]),
             edge1_m=_points(raw["edge1"], path, f"{what} edge1", 2),
             edge2_m=_points(raw["edge2"], path, f"{what} edge2", 2),
         )
@@ -477,7 +487,7 @@ def _parse_area(raw: Any, path: Path) -> DrivableArea:
     if not isinstance(raw, dict):
         raise LogFormatError(path, f"{what} is not an object")
     try:
-        return DrivableArea(id=int(raw["id"]), boundary_m=_points(raw["area_boundary"], path, f"{what}", 3))
+        return DrivableArea(id=_id(raw["id"]), boundary_m=_points(raw["area_boundary"], path, f"{what}", 3))
     except LogFormatError:
         raise
     except KeyError as exc:
@@ -550,14 +560,15 @@ def _quick_check(layers: dict[str, dict[str, Any]]) -> bool:
     """Whether every record passes the parsers' checks, tested in one pass without building records.
 
     The same rules as :func:`_parse_lane`, :func:`_parse_crossing` and :func:`_parse_area` (ids and
-    neighbour ids are integers, lane types known, polylines long enough with finite x, y, z), with
+    neighbour ids are integers that fit 64 bits, lane types known, polylines long enough with finite
+    x, y, z and x, y within :data:`~scenariominer.data.log.MAX_COORDINATE_M`), with
     all coordinates converted and checked at once. ``False`` says only that some record fails: the
     parsers then name it.
     """
     coords: list[Any] = []
     try:
         for lane in layers["lane_segments"].values():
-            int(lane["id"])
+            _id(lane["id"])
             lane["is_intersection"]  # noqa: B018  # required key
             if str(lane["lane_type"]) not in _LANE_TYPES:
                 return False
@@ -565,18 +576,19 @@ def _quick_check(layers: dict[str, dict[str, Any]]) -> bool:
                 if not _gather(lane[key], 2, coords):
                     return False
             for i in (*(lane.get("successors") or ()), *(lane.get("predecessors") or ())):
-                int(i)
+                _id(i)
             for key in ("left_neighbor_id", "right_neighbor_id"):
                 _opt_int(lane.get(key))
         for crossing in layers["pedestrian_crossings"].values():
-            int(crossing["id"])
+            _id(crossing["id"])
             if not (_gather(crossing["edge1"], 2, coords) and _gather(crossing["edge2"], 2, coords)):
                 return False
         for area in layers["drivable_areas"].values():
-            int(area["id"])
+            _id(area["id"])
             if not _gather(area["area_boundary"], 3, coords):
                 return False
-        return bool(np.all(np.isfinite(np.asarray(coords, dtype=np.float64))))
+        xyz = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
+        return bool(np.all(np.isfinite(xyz)) and np.all(np.abs(xyz[:, :2]) <= MAX_COORDINATE_M))
     except _QUICK_ERRORS:
         return False
 
