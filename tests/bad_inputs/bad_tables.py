@@ -63,6 +63,17 @@ def _(root: Path) -> list[Path]:
     return _tab(root, lambda rows: [r[:6] for r in rows])
 
 
+@case(
+    "tabular_header_name_with_spaces",
+    "tabular",
+    "CSV header `track_id ` (a space after the name)",
+    "rejected",
+    r"fleet\.csv: column name 'track_id ' has spaces around it; name it 'track_id'",
+)
+def _(root: Path) -> list[Path]:
+    return _tab(root, lambda rows: [[c if c != "track_id" else "track_id " for c in rows[0]], *rows[1:]])
+
+
 @case("tabular_empty_file", "tabular", "CSV of 0 bytes", "rejected", r"fleet\.csv: empty file")
 def _(root: Path) -> list[Path]:
     root.mkdir(parents=True)

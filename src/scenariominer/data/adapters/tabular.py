@@ -101,7 +101,13 @@ def _column_names(path: Path) -> list[str]:
     if not line.strip():
         raise LogFormatError(path, f"empty file: {_SCHEMA_HINT}")
     check_delimiter(path, line)
-    return [c.strip().strip('"') for c in line.strip().split(",")]
+    names = [c.strip("\r\n").strip('"') for c in line.split(",")]
+    known = {*REQUIRED_COLUMNS, *TIME_COLUMNS, *OPTIONAL_COLUMNS}
+    for name in names:
+        if name != name.strip() and name.strip() in known:
+            # the CSV reader matches names exactly: the column would be missing or misread
+            raise LogFormatError(path, f"column name {name!r} has spaces around it; name it {name.strip()!r}")
+    return names
 
 
 def _read_table(path: Path) -> pa.Table:
@@ -130,7 +136,7 @@ def _read_table(path: Path) -> pa.Table:
                     strings_can_be_null=True,
                 ),
             )
-    except (pa.ArrowInvalid, pa.ArrowNotImplementedError, OSError) as exc:
+    except (pa.ArrowInvalid, pa.ArrowNotImplementedError, pa.ArrowKeyError, OSError) as exc:
         raise LogFormatError(path, f"cannot read the table ({exc}); {_SCHEMA_HINT}") from None
     if table.num_rows == 0:
         raise LogFormatError(path, "the table has no rows")
