@@ -211,10 +211,32 @@ def _(root: Path) -> list[Path]:
     "av2",
     "NaN quaternion (no yaw)",
     "rejected",
-    r"non-finite or zero rotation quaternion",
+    r"non-finite, zero or overflowing rotation quaternion",
 )
 def _(root: Path) -> list[Path]:
     return _broken(root, ANN, lambda t: _where(t, "qz", _first_rows(t, "car-1", 1), np.nan))
+
+
+@case(
+    "av2_overflowing_rotation_quaternion",
+    "av2",
+    "a pose quaternion component of 1e300 (its norm overflows)",
+    "rejected",
+    r"city_SE3_egovehicle\.feather: 1 pose row\(s\) have a non-finite, zero or overflowing rotation quat",
+)
+def _(root: Path) -> list[Path]:
+    return _broken(root, POSES_FILE, lambda t: _where(t, "qz", np.arange(t.num_rows) == 2, 1e300))
+
+
+@case(
+    "av2_box_length_1e300",
+    "av2",
+    "`length_m` of 1e300",
+    "repaired",
+    r"dropped 1 row\(s\) with a length or width beyond 100 m",
+)
+def _(root: Path) -> list[Path]:
+    return _broken(root, ANN, lambda t: _where(t, "length_m", _first_rows(t, "bus-1", 1), 1e300))
 
 
 @case(
@@ -222,7 +244,7 @@ def _(root: Path) -> list[Path]:
     "av2",
     "all-zero quaternion",
     "rejected",
-    r"non-finite or zero rotation quaternion",
+    r"non-finite, zero or overflowing rotation quaternion",
 )
 def _(root: Path) -> list[Path]:
     def change(t: pa.Table) -> pa.Table:

@@ -318,7 +318,7 @@ def _set(table: pa.Table, name: str, values: Any) -> pa.Table:
         (
             ANNOTATIONS_WITH_EGO_FILE,
             lambda t: _set(t, "qx", [np.nan] + [0.0] * (t.num_rows - 1)),
-            "non-finite or zero rotation quaternion",
+            "non-finite, zero or overflowing rotation quaternion",
         ),
         (
             ANNOTATIONS_WITH_EGO_FILE,
@@ -334,7 +334,7 @@ def _set(table: pa.Table, name: str, values: Any) -> pa.Table:
         (
             POSES_FILE,
             lambda t: _set(t, "qz", np.full(t.num_rows, np.inf)),
-            "non-finite or zero rotation quaternion",
+            "non-finite, zero or overflowing rotation quaternion",
         ),
         (POSES_FILE, lambda t: _set(t, "timestamp_ns", [0, 0, 100_000_000]), "duplicate pose timestamp"),
         (POSES_FILE, lambda t: t.slice(0, 0), "no rows"),

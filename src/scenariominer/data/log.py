@@ -60,6 +60,8 @@ REQUIRED_FIELDS: tuple[str, ...] = ("x_m", "y_m", "yaw_rad", "length_m", "width_
 MAX_COORDINATE_M = 1e7
 #: A zero or negative box length or width (no extent recorded, or a sign error) becomes this (metres).
 MIN_BOX_SIZE_M = 0.1
+#: Largest plausible box length or width (metres; a road train is about 50 m): rows beyond are dropped.
+MAX_BOX_SIZE_M = 100.0
 #: Largest ``tracks x timestamps`` grid a log may have (each state field is one float64 per cell).
 MAX_LOG_CELLS = 20_000_000
 
@@ -295,9 +297,10 @@ def build_log(
       (same track and timestamp, different values) are errors naming ``source``;
     * unsorted rows are sorted (no information is lost);
     * exact duplicate rows are collapsed;
-    * rows with NaN/inf position, yaw or size, or a coordinate beyond :data:`MAX_COORDINATE_M`, are
-      dropped (preprocessing interpolates the gap; an ego with no row left is an error); a zero or
-      negative length or width becomes :data:`MIN_BOX_SIZE_M`;
+    * rows with NaN/inf position, yaw or size, a coordinate beyond :data:`MAX_COORDINATE_M`, or a
+      length or width beyond :data:`MAX_BOX_SIZE_M`, are dropped (preprocessing interpolates the
+      gap; an ego with no row left is an error); a zero or negative length or width becomes
+      :data:`MIN_BOX_SIZE_M`;
     * timestamps outside the int64 range (e.g. a wrapped unsigned value) are an error;
     * tracks stamped by their own clocks (timestamps a few µs apart) are snapped onto one clock, and
       a log whose clocks are too far apart to snap, or whose grid would exceed ``max_cells``, is an
@@ -400,6 +403,7 @@ def build_log(
         finite &= np.isfinite(cols[name])
     with np.errstate(invalid="ignore"):
         far = finite & ((np.abs(cols["x_m"]) > MAX_COORDINATE_M) | (np.abs(cols["y_m"]) > MAX_COORDINATE_M))
+        huge = finite & ~far & ((cols["length_m"] > MAX_BOX_SIZE_M) | (cols["width_m"] > MAX_BOX_SIZE_M))
         for name in ("length_m", "width_m"):
             flat = finite & (cols[name] <= 0)
             if flat.any():
@@ -407,11 +411,12 @@ def build_log(
                     f"set {name} of {int(flat.sum())} row(s) from zero or negative to {MIN_BOX_SIZE_M} m"
                 )
                 cols[name] = np.where(flat, MIN_BOX_SIZE_M, cols[name])
-    geom = finite & ~far
+    geom = finite & ~far & ~huge
     if not geom.all():
         for count, what in (
             (int((~finite).sum()), "NaN/inf position, yaw or size"),
             (int(far.sum()), f"a coordinate beyond {MAX_COORDINATE_M:.0e} m"),
+            (int(huge.sum()), f"a length or width beyond {MAX_BOX_SIZE_M:g} m"),
         ):
             if count:
                 notes.append(f"dropped {count} row(s) with {what} (gaps are interpolated)")

@@ -205,13 +205,14 @@ def _is(column: pa.Array, text: str) -> NDArray[np.bool_]:
 
 
 def _check_quaternions(quat: FloatArray, path: Path, timestamps: NDArray[np.int64], what: str) -> None:
-    norm = np.linalg.norm(quat, axis=1)
-    bad = ~np.all(np.isfinite(quat), axis=1) | ~(norm > 1e-9)
+    with np.errstate(over="ignore", invalid="ignore"):
+        norm = np.linalg.norm(quat, axis=1)  # inf when a component overflows its square
+    bad = ~np.all(np.isfinite(quat), axis=1) | ~(norm > 1e-9) | ~np.isfinite(norm)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise LogFormatError(
             path,
-            f"{int(bad.sum())} {what} row(s) have a non-finite or zero rotation quaternion "
+            f"{int(bad.sum())} {what} row(s) have a non-finite, zero or overflowing rotation quaternion "
             f"(first at timestamp_ns={int(timestamps[i])}: qw,qx,qy,qz={quat[i].tolist()})",
         )
 
