@@ -53,6 +53,32 @@ def _(root: Path) -> list[Path]:
 
 
 @case(
+    "highd_recording_id_infinite",
+    "highd",
+    "recordingMeta `id` of `inf`",
+    "rejected",
+    r"01_recordingMeta\.csv: column 'id' is not an integer: 'inf'",
+)
+def _(root: Path) -> list[Path]:
+    return _highd(root, lambda rows: _set(rows, "id", "inf"), "recording_meta")
+
+
+@case(
+    "highd_lane_marking_nan",
+    "highd",
+    "`upperLaneMarkings` with a `nan`",
+    "rejected",
+    r"01_recordingMeta\.csv: column 'upperLaneMarkings' has a non-finite or out-of-range marking",
+)
+def _(root: Path) -> list[Path]:
+    def edit(rows: list[list[str]]) -> list[list[str]]:
+        k = rows[0].index("upperLaneMarkings")
+        return _set(rows, "upperLaneMarkings", lambda r: r[k] + ";nan")
+
+    return _highd(root, edit, "recording_meta")
+
+
+@case(
     "highd_frame_rate_contradicts_tracks",
     "highd",
     "`frameRate` 50 for 25 Hz tracks",

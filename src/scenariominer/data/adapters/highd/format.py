@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -21,7 +22,7 @@ from scenariominer.data.adapters.highd.consistency import (
     meta_span_mismatch,
 )
 from scenariominer.data.categories import UnknownCategoryError, canonical_category
-from scenariominer.data.log import FloatArray, LogFormatError
+from scenariominer.data.log import MAX_COORDINATE_M, FloatArray, LogFormatError
 from scenariominer.data.sources import check_delimiter
 
 IntArray = NDArray[np.int64]
@@ -346,11 +347,14 @@ def _parse_markings(text: str, path: Path, column: str) -> tuple[float, ...]:
     if not text:
         return ()
     try:
-        return tuple(float(v) for v in text.split(";") if v.strip())
+        values = tuple(float(v) for v in text.split(";") if v.strip())
     except ValueError:
         raise LogFormatError(
             path, f"column {column!r} is not a ';'-separated list of numbers: {text!r}"
         ) from None
+    if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE_M for v in values):
+        raise LogFormatError(path, f"column {column!r} has a non-finite or out-of-range marking: {text!r}")
+    return values
 
 
 def read_recording_meta(path: Path) -> HighDRecordingMeta:
@@ -383,15 +387,23 @@ def read_recording_meta(path: Path) -> HighDRecordingMeta:
         except ValueError:
             raise LogFormatError(path, f"column {name!r} is not a number: {raw!r}") from None
 
+    def integer(name: str) -> int:
+        value = number(name, 0.0)
+        if not (math.isfinite(value) and value == int(value) and abs(value) < 2**63):
+            raise LogFormatError(path, f"column {name!r} is not an integer: {row[name]!r}")
+        return int(value)
+
     frame_rate = number("frameRate", float("nan"))
     if not np.isfinite(frame_rate) or frame_rate <= 0:
         raise LogFormatError(path, f"frameRate must be a positive number, got {row['frameRate']!r}")
     speed_limit = number("speedLimit", -1.0)
+    if not math.isfinite(speed_limit):
+        raise LogFormatError(path, f"speedLimit must be a number (-1: none), got {row['speedLimit']!r}")
     duration = number("duration", float("nan"))
     return HighDRecordingMeta(
-        recording_id=int(number("id", 0)),
+        recording_id=integer("id"),
         frame_rate_hz=frame_rate,
-        location_id=int(number("locationId", 0)),
+        location_id=integer("locationId"),
         speed_limit_mps=None if speed_limit < 0 else speed_limit,
         upper_lane_markings_m=_parse_markings(row.get("upperLaneMarkings", ""), path, "upperLaneMarkings"),
         lower_lane_markings_m=_parse_markings(row.get("lowerLaneMarkings", ""), path, "lowerLaneMarkings"),
