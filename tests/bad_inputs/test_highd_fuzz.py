@@ -17,7 +17,8 @@ from highd_files import edit_csv, highd_config, write_small_highway
 from scenariominer.data.ingest import MemorySink, ingest_sources
 
 _ODD = [
-    "", "nan", "inf", "-inf", "1e300", "-1e300", "abc", "0", "-1", "9" * 30, "1;2", "[/x]", "\x00", "2.5", "-0",
+    "", "nan", "inf", "-inf", "1e300", "-1e300", "abc", "0", "-1", "9" * 30, "1;2", "[/x]", "\x00",
+    "2.5", "-0",
 ]  # fmt: skip
 
 
