@@ -70,6 +70,10 @@ def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
         ("[ingest]\nhighd_ego_ids = [3, -1]\n", "highd_ego_ids must hold non-negative"),
         ("[ingest]\nhighd_window_s = true\n", "ingest.highd_window_s must be a number"),
         ("[preprocess]\nwindow = 3\n", "unknown key(s) ['window'] in [preprocess]"),
+        # integers: inf crashed the loader with OverflowError; 2.5 was silently truncated to 2
+        ("[llm]\ntop_k = inf\n", "llm.top_k must be an integer, got inf"),
+        ("[mining.generation]\nmax_attempts = 2.5\n", "max_attempts must be an integer, got 2.5"),
+        ("[llm]\nseed = 99999999999999999999999\n", "llm.seed must fit 64 bits"),
     ],
 )
 def test_bad_values_name_the_file_and_the_key(tmp_path: Path, toml: str, message: str) -> None:

@@ -119,9 +119,14 @@ def _coerce(value: Any, tp: Any, key: str) -> Any:
         if isinstance(value, bool):
             raise ConfigError(f"{key} must be an integer, got {value!r}")
         try:
-            return int(value)
-        except (TypeError, ValueError):
+            integer = int(value)
+        except (TypeError, ValueError, OverflowError):  # OverflowError: int(inf)
             raise ConfigError(f"{key} must be an integer, got {value!r}") from None
+        if isinstance(value, float) and integer != value:
+            raise ConfigError(f"{key} must be an integer, got {value!r}")
+        if not -(2**63) <= integer < 2**63:
+            raise ConfigError(f"{key} must fit 64 bits, got {value!r}")
+        return integer
     if tp is str:
         return str(value)
     return value
