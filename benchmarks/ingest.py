@@ -48,13 +48,13 @@ def _rate(count: float, seconds: float) -> str:
     return f"{count / seconds:10,.1f}" if seconds > 0 else "       inf"
 
 
-def _best_of(n: int, run: Callable[[], object]) -> float:
-    """The shortest of ``n`` timed calls of ``run`` (seconds)."""
+def _best_of(n: int, run: Callable[[], object], clock: Callable[[], float] = time.perf_counter) -> float:
+    """The shortest of ``n`` calls of ``run`` timed by ``clock`` (seconds)."""
     times = []
     for _ in range(n):
-        t = time.perf_counter()
+        t = clock()
         run()
-        times.append(time.perf_counter() - t)
+        times.append(clock() - t)
     return min(times)
 
 
@@ -199,12 +199,7 @@ def _cpu_per_step(data: Path, config: Config, out: Path) -> dict[str, float]:
     sources = discover_sources([data])
 
     def best_ms(run: Callable[[], object]) -> float:
-        times = []
-        for _ in range(5):
-            t = time.process_time()
-            run()
-            times.append(time.process_time() - t)
-        return min(times) * 1e3 / len(sources)
+        return _best_of(5, run, time.process_time) * 1e3 / len(sources)
 
     raws = [log for src in sources for log in reader_for(src).read(src, config)]
     logs = [preprocess(log, config.preprocess) for log in raws]

@@ -11,6 +11,7 @@ import hashlib
 import stat
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
@@ -35,7 +36,6 @@ class LogSource:
     format: str
     path: Path
     files: tuple[Path, ...] = field(default_factory=tuple)
-    _hash: list[str] = field(default_factory=list, init=False, repr=False, compare=False)
 
     def content_hash(self) -> str:
         """SHA-256 over the names and bytes of :attr:`files` (sorted), hex-encoded.
@@ -43,11 +43,10 @@ class LogSource:
         Computed once per object (the ingestion loop and the reader both ask for it); a new
         :class:`LogSource` from discovery hashes the files again.
         """
-        if not self._hash:
-            self._hash.append(self._compute_hash())
-        return self._hash[0]
+        return self._content_hash
 
-    def _compute_hash(self) -> str:
+    @cached_property
+    def _content_hash(self) -> str:
         h = hashlib.sha256(self.format.encode())
         for f in sorted(self.files):
             h.update(f.name.encode())
