@@ -117,3 +117,24 @@ def test_an_unknown_option_is_a_usage_error_not_an_internal_one() -> None:
     result = runner.invoke(app, ["analyze", "--no-such-option"])
     assert result.exit_code == 2
     assert "No such option" in result.output and "internal error" not in result.output
+
+
+def test_a_closed_output_pipe_is_no_internal_error() -> None:
+    # ``scenariominer ... | head -1``: the reader is gone; click ends the command quietly (status 1).
+    import typer
+
+    from scenariominer.cli._common import SafeGroup
+
+    demo = typer.Typer(cls=SafeGroup)
+
+    @demo.command()
+    def write() -> None:
+        raise BrokenPipeError(32, "Broken pipe")
+
+    @demo.command()
+    def other() -> None:  # a second command keeps ``write`` a subcommand
+        pass
+
+    result = runner.invoke(demo, ["write"])
+    assert result.exit_code == 1
+    assert "internal error" not in result.output + result.stderr

@@ -170,6 +170,8 @@ class SafeGroup(TyperGroup):
             return super().invoke(ctx)
         except (typer.Exit, typer.Abort, SystemExit, KeyboardInterrupt):
             raise
+        except BrokenPipeError:
+            raise  # the reader of our output is gone (``| head``): click exits quietly with status 1
         except Exception as exc:
             if _is_usage_exception(exc):
                 raise
