@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import threading
+from collections.abc import Iterator, Sequence
 from pathlib import Path
+
+import pytest
 
 from scenariominer.config import Config
 from scenariominer.data.ingest import MemorySink, ingest_sources
@@ -38,7 +41,9 @@ def test_an_unexpected_error_fails_its_source_alone_and_names_it(tmp_path: Path)
 
 
 class _CountingExecutor(InlineExecutor):
-    """Runs items here, counting how often the loop handed it work."""
+    """Runs items here, counting how often the loop handed it work (named as a pool would be)."""
+
+    name = "counting"
 
     def __init__(self) -> None:
         super().__init__()
@@ -65,3 +70,62 @@ def test_a_batch_under_min_pool_bytes_is_ingested_here_without_the_executor(tmp_
         assert [r.status for r in results] == ["ingested", "ingested"]
         assert len(sink.all_logs()) == 2
     assert Config().exec.min_ingest_bytes > 0  # on by default for the process executor
+
+
+class _ProbeSink(MemorySink):
+    """Records the thread of each commit and how many sources had been read when it started."""
+
+    def __init__(self, reader: _ProbeReader, fail: str = "") -> None:
+        super().__init__()
+        self.reader, self.fail = reader, fail
+        self.commits: list[tuple[str, int, bool]] = []  # (source, sources read by then, writer thread)
+        self._busy = threading.Lock()
+
+    def replace_source(self, source_key: str, content_hash: str, logs: Sequence[Log]) -> list[str]:
+        assert self._busy.acquire(blocking=False), "two commits ran at once"
+        try:
+            writer = threading.current_thread() is not threading.main_thread()
+            self.commits.append((source_key, self.reader.reads, writer))
+            if source_key == self.fail:
+                raise ValueError(f"{source_key}: the store refused it")
+            return super().replace_source(source_key, content_hash, logs)
+        finally:
+            self._busy.release()
+
+
+class _ProbeReader(InMemoryReader):
+    """Counts the sources read so far."""
+
+    def __init__(self, logs: Sequence[Log]) -> None:
+        super().__init__(logs)
+        self.reads = 0
+
+    def read(self, source: LogSource, config: Config) -> Iterator[Log]:
+        self.reads += 1
+        yield from super().read(source, config)
+
+
+@pytest.mark.parametrize("fail", ["", "memory:c"])
+def test_commits_run_one_at_a_time_in_a_writer_thread_at_most_one_source_ahead(
+    tmp_path: Path, fail: str
+) -> None:
+    t = times(2.0)
+    names = ["a", "b", "c", "d", "e"]
+    reader = _ProbeReader([LogBuilder(t, log_id=n).ego(speed_mps=5.0).build() for n in names])
+    sink = _ProbeSink(reader, fail=fail)
+    for name in names:
+        (tmp_path / name).mkdir()
+    results = ingest_sources([tmp_path / n for n in names], sink, Config(), readers=[reader])
+    keys = [f"memory:{n}" for n in names]
+    assert [r.key for r in results] == keys  # the sources' order, whatever finished first
+    assert [c[0] for c in sink.commits] == keys
+    assert all(writer for _, _, writer in sink.commits)
+    # the commit of source i starts once source i (and at most source i + 1) has been read
+    assert all(i + 1 <= read <= i + 2 for i, (_, read, _) in enumerate(sink.commits))
+    status = {r.key: (r.status, r.error) for r in results}
+    for key in keys:
+        if key == fail:
+            assert status[key] == ("failed", "memory:c: the store refused it")
+        else:
+            assert status[key] == ("ingested", "")
+    assert [log.log_id for log in sink.all_logs()] == [n for n in names if f"memory:{n}" != fail]

@@ -3,9 +3,11 @@ executor, and a killed worker loses nothing committed (a re-run completes only w
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import signal
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -232,3 +234,32 @@ def test_a_killed_analyze_worker_loses_nothing_and_a_rerun_analyses_only_the_mis
     assert second.n_unchanged == N_LOGS - len(again) and second.n_failed == 0
     for name in ("events", "tags"):
         assert _table(store, name).equals(reference[name]), name
+
+
+class _ChildCounter:
+    """A progress sink that records how many child processes run as each item comes back."""
+
+    def __init__(self) -> None:
+        self.children: list[int] = []
+
+    def start(self, description: str, total: int | None) -> None:
+        """Nothing to do."""
+
+    def advance(self, n: int = 1, message: str | None = None) -> None:
+        """Count the live children."""
+        self.children.append(len(multiprocessing.active_children()))
+
+    def finish(self) -> None:
+        """Nothing to do."""
+
+
+@pytest.mark.parametrize(("workers", "pooled"), [(2, False), (3, True)])
+def test_the_default_ingest_runs_here_unless_the_pool_has_more_than_two_workers(
+    tmp_path: Path, logs_dir: Path, config: Config, workers: int, pooled: bool
+) -> None:
+    cfg = replace(config, exec=replace(config.exec, workers=workers, min_ingest_bytes=0))
+    counter = _ChildCounter()
+    report = api.ingest([logs_dir], api.open_store(tmp_path / "store", cfg), cfg, progress=counter)
+    assert report.n_logs_ingested == N_LOGS and not report.failed
+    assert len(counter.children) == N_LOGS
+    assert (max(counter.children) >= workers) if pooled else (max(counter.children) == 0)

@@ -14,6 +14,7 @@ import os
 import stat
 import time
 from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
@@ -129,7 +130,10 @@ def ingest_sources(
     With an ``executor`` and ``reopen`` (a picklable function that opens the same sink in a worker,
     e.g. a :class:`~scenariominer.store.StoreRef`), each source is read, preprocessed and committed
     by a worker; discovery stays here. Custom ``readers`` always run in this process, and so does
-    a batch whose files total fewer than ``min_pool_bytes`` (starting workers would take longer).
+    a batch whose files total fewer than ``min_pool_bytes`` (starting workers would take longer)
+    and the in-process (``local``) executor. In this process, each source's commit runs in a
+    writer thread while the next source is read, so ``sink.replace_source`` is called from that
+    thread (one call at a time) while ``needs_ingest`` and ``logs_of_source`` run in this one.
     """
     progress = progress or NullProgress()
     results: list[SourceResult] = []
@@ -147,7 +151,9 @@ def ingest_sources(
         sources += found
     fingerprint = pipeline_fingerprint(config)
     small = min_pool_bytes > 0 and _total_bytes(sources) < min_pool_bytes
-    if executor is not None and reopen is not None and readers is None and not small:
+    # The in-process executor would gain nothing over the loop below, which overlaps commits with reads.
+    in_process = readers is not None or small or (executor is not None and executor.name == "local")
+    if executor is not None and reopen is not None and not in_process:
         task = IngestTask(reopen, config, fingerprint, force)
         with step(progress, "ingest", len(sources)):
             outcomes = executor.map(
@@ -155,11 +161,45 @@ def ingest_sources(
             )
         return results + [_source_result(source, o) for source, o in zip(sources, outcomes, strict=True)]
     with step(progress, "ingest", len(sources)):
+        results += _ingest_pipelined(sources, sink, config, fingerprint, force, readers, progress)
+    return results
+
+
+def _ingest_pipelined(
+    sources: Sequence[LogSource],
+    sink: LogSink,
+    config: Config,
+    fingerprint: str,
+    force: bool,
+    readers: Sequence[LogReader] | None,
+    progress: Progress,
+) -> list[SourceResult]:
+    """Ingest ``sources`` in order, committing each in a writer thread while the next is read.
+
+    A commit (Parquet encoding, fsync, the catalog transaction) spends most of its time outside the
+    GIL, so it overlaps reading and preprocessing the next source. At most one commit is in flight:
+    memory holds two sources' logs at most.
+    """
+    results: list[SourceResult] = []
+
+    def done(result: SourceResult) -> None:
+        results.append(result)
+        name = Path(result.key).name
+        progress.advance(1, name if result.status == "ingested" else f"{result.status} {name}")
+
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="ingest-writer") as writer:
+        in_flight: Future[SourceResult] | None = None
         for source in sources:
-            result = _ingest_one(source, sink, config, fingerprint, force, readers)
-            results.append(result)
-            name = Path(source.key).name
-            progress.advance(1, name if result.status == "ingested" else f"{result.status} {name}")
+            prepared = _prepare(source, sink, config, fingerprint, force, readers)
+            if in_flight is not None:
+                done(in_flight.result())
+                in_flight = None
+            if isinstance(prepared, SourceResult):
+                done(prepared)
+            else:
+                in_flight = writer.submit(_commit, prepared, sink)
+        if in_flight is not None:
+            done(in_flight.result())
     return results
 
 
@@ -218,6 +258,16 @@ def _check_utf8_paths(source: LogSource) -> None:
             ) from None
 
 
+@dataclass(frozen=True)
+class _Prepared:
+    """A source read and preprocessed, ready to commit."""
+
+    source: LogSource
+    content_hash: str
+    logs: list[Log]
+    t0: float
+
+
 def _ingest_one(
     source: LogSource,
     sink: LogSink,
@@ -226,6 +276,20 @@ def _ingest_one(
     force: bool,
     readers: Sequence[LogReader] | None,
 ) -> SourceResult:
+    """Read, preprocess and commit one source."""
+    prepared = _prepare(source, sink, config, fingerprint, force, readers)
+    return prepared if isinstance(prepared, SourceResult) else _commit(prepared, sink)
+
+
+def _prepare(
+    source: LogSource,
+    sink: LogSink,
+    config: Config,
+    fingerprint: str,
+    force: bool,
+    readers: Sequence[LogReader] | None,
+) -> _Prepared | SourceResult:
+    """The source's preprocessed logs, or its result when it is skipped (unchanged) or fails."""
     t0 = time.perf_counter()
     try:
         _check_utf8_paths(source)
@@ -236,21 +300,37 @@ def _ingest_one(
         logs = [preprocess(log, config.preprocess) for log in reader.read(source, config)]
         if not logs:
             raise LogFormatError(source.path, "the source yielded no logs")
-        written = sink.replace_source(source.key, content_hash, logs)
-    except (LogFormatError, OSError, ValueError) as exc:
-        return SourceResult(
-            source.key, source.format, "failed", error=str(exc), seconds=time.perf_counter() - t0
-        )
-    except Exception as exc:  # a bug met by one odd input must not abort the batch either
-        error = f"{source.path}: unexpected {type(exc).__name__} while reading ({exc}); please report it"
-        seconds = time.perf_counter() - t0
-        return SourceResult(source.key, source.format, "failed", error=error, seconds=seconds)
+    except Exception as exc:  # noqa: BLE001 - see _failed
+        return _failed(source, exc, t0)
+    return _Prepared(source, content_hash, logs, t0)
+
+
+def _commit(prepared: _Prepared, sink: LogSink) -> SourceResult:
+    """Hand the prepared logs to the sink; the source's result."""
+    source, logs = prepared.source, prepared.logs
+    try:
+        written = sink.replace_source(source.key, prepared.content_hash, logs)
+    except Exception as exc:  # noqa: BLE001 - see _failed
+        return _failed(source, exc, prepared.t0)
     return SourceResult(
         source.key,
         source.format,
         "ingested",
         tuple(written),
         notes=tuple(f"{log.log_id}: {note}" for log in logs for note in log.notes),
-        seconds=time.perf_counter() - t0,
+        seconds=time.perf_counter() - prepared.t0,
         n_frames=sum(log.n_frames for log in logs),
     )
+
+
+def _failed(source: LogSource, exc: Exception, t0: float) -> SourceResult:
+    """The failed result of a source.
+
+    Bad input names its cause; a bug met by one odd input is reported as unexpected (and must not
+    abort the batch either).
+    """
+    seconds = time.perf_counter() - t0
+    if isinstance(exc, LogFormatError | OSError | ValueError):
+        return SourceResult(source.key, source.format, "failed", error=str(exc), seconds=seconds)
+    error = f"{source.path}: unexpected {type(exc).__name__} while reading ({exc}); please report it"
+    return SourceResult(source.key, source.format, "failed", error=error, seconds=seconds)
