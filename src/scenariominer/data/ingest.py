@@ -154,25 +154,19 @@ def ingest_sources(
     # The in-process executor would gain nothing over the loop below, which overlaps commits with reads.
     in_process = readers is not None or small or (executor is not None and executor.name == "local")
     if executor is not None and reopen is not None and not in_process:
-        task = IngestTask(reopen, config, fingerprint, force)
+        task = IngestTask(reopen, _Reading(config, fingerprint, force))
         with step(progress, "ingest", len(sources)):
             outcomes = executor.map(
                 task, sources, keys=[s.key for s in sources], on_outcome=lambda o: _advance(progress, o)
             )
         return results + [_source_result(source, o) for source, o in zip(sources, outcomes, strict=True)]
     with step(progress, "ingest", len(sources)):
-        results += _ingest_pipelined(sources, sink, config, fingerprint, force, readers, progress)
+        results += _ingest_pipelined(sources, sink, _Reading(config, fingerprint, force, readers), progress)
     return results
 
 
 def _ingest_pipelined(
-    sources: Sequence[LogSource],
-    sink: LogSink,
-    config: Config,
-    fingerprint: str,
-    force: bool,
-    readers: Sequence[LogReader] | None,
-    progress: Progress,
+    sources: Sequence[LogSource], sink: LogSink, reading: _Reading, progress: Progress
 ) -> list[SourceResult]:
     """Ingest ``sources`` in order, committing each in a writer thread while the next is read.
 
@@ -190,7 +184,7 @@ def _ingest_pipelined(
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="ingest-writer") as writer:
         in_flight: Future[SourceResult] | None = None
         for source in sources:
-            prepared = _prepare(source, sink, config, fingerprint, force, readers)
+            prepared = reading.prepare(source, sink)
             if in_flight is not None:
                 done(in_flight.result())
                 in_flight = None
@@ -222,13 +216,13 @@ class IngestTask:
     """The worker side of the ingestion loop: read, preprocess and commit one source (picklable)."""
 
     reopen: Callable[[], LogSink]
-    config: Config
-    fingerprint: str
-    force: bool
+    reading: _Reading
 
     def __call__(self, source: LogSource) -> SourceResult:
         """Ingest ``source`` into the sink ``reopen`` opens in this worker."""
-        return _ingest_one(source, self.reopen(), self.config, self.fingerprint, self.force, None)
+        sink = self.reopen()
+        prepared = self.reading.prepare(source, sink)
+        return prepared if isinstance(prepared, SourceResult) else _commit(prepared, sink)
 
 
 def _advance(progress: Progress, outcome: ItemOutcome[SourceResult]) -> None:
@@ -268,41 +262,32 @@ class _Prepared:
     t0: float
 
 
-def _ingest_one(
-    source: LogSource,
-    sink: LogSink,
-    config: Config,
-    fingerprint: str,
-    force: bool,
-    readers: Sequence[LogReader] | None,
-) -> SourceResult:
-    """Read, preprocess and commit one source."""
-    prepared = _prepare(source, sink, config, fingerprint, force, readers)
-    return prepared if isinstance(prepared, SourceResult) else _commit(prepared, sink)
+@dataclass(frozen=True)
+class _Reading:
+    """How sources are read: the settings, their fingerprint, ``force`` and the readers to try."""
 
+    config: Config
+    fingerprint: str
+    force: bool
+    readers: Sequence[LogReader] | None = None
 
-def _prepare(
-    source: LogSource,
-    sink: LogSink,
-    config: Config,
-    fingerprint: str,
-    force: bool,
-    readers: Sequence[LogReader] | None,
-) -> _Prepared | SourceResult:
-    """The source's preprocessed logs, or its result when it is skipped (unchanged) or fails."""
-    t0 = time.perf_counter()
-    try:
-        _check_utf8_paths(source)
-        content_hash = f"{source.content_hash()}:{fingerprint}"
-        if not force and not sink.needs_ingest(source.key, content_hash):
-            return SourceResult(source.key, source.format, "skipped", tuple(sink.logs_of_source(source.key)))
-        reader = reader_for(source, readers)
-        logs = [preprocess(log, config.preprocess) for log in reader.read(source, config)]
-        if not logs:
-            raise LogFormatError(source.path, "the source yielded no logs")
-    except Exception as exc:  # noqa: BLE001 - see _failed
-        return _failed(source, exc, t0)
-    return _Prepared(source, content_hash, logs, t0)
+    def prepare(self, source: LogSource, sink: LogSink) -> _Prepared | SourceResult:
+        """The source's preprocessed logs, or its result when it is skipped (unchanged) or fails."""
+        t0 = time.perf_counter()
+        try:
+            _check_utf8_paths(source)
+            content_hash = f"{source.content_hash()}:{self.fingerprint}"
+            if not self.force and not sink.needs_ingest(source.key, content_hash):
+                return SourceResult(
+                    source.key, source.format, "skipped", tuple(sink.logs_of_source(source.key))
+                )
+            reader = reader_for(source, self.readers)
+            logs = [preprocess(log, self.config.preprocess) for log in reader.read(source, self.config)]
+            if not logs:
+                raise LogFormatError(source.path, "the source yielded no logs")
+        except Exception as exc:  # noqa: BLE001 - see _failed
+            return _failed(source, exc, t0)
+        return _Prepared(source, content_hash, logs, t0)
 
 
 def _commit(prepared: _Prepared, sink: LogSink) -> SourceResult:
