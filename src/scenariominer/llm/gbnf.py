@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from scenariominer import _optional
+from scenariominer.llm import llama_log
 from scenariominer.llm.errors import BackendError
 
 __all__ = ["GbnfMatch", "GbnfMatcher", "GrammarSyntaxError"]
@@ -56,6 +57,7 @@ class GbnfMatcher:
     def _load(self) -> Any:
         if self._llama is None:
             llama_cpp = _optional.require("llama_cpp", extra="llm", purpose="grammar checks")
+            llama_log.install()
             self._llama = llama_cpp.Llama(model_path=str(self.model_path), vocab_only=True, verbose=False)
         return self._llama
 

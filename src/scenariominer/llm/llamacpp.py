@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from scenariominer.llm import llama_log
 from scenariominer.llm.base import ChatRequest, Completion
 from scenariominer.llm.errors import INSTALL_LLM_HINT, BackendError, MissingDependencyError
 from scenariominer.llm.model_files import ModelFile
@@ -114,6 +115,7 @@ class LlamaCppBackend:
             from llama_cpp import Llama
         except ImportError:
             raise MissingDependencyError("llama_cpp", "the embedded LLM backend", INSTALL_LLM_HINT) from None
+        llama_log.install()
         t0 = time.perf_counter()
         try:
             self._llama = Llama(
