@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -94,6 +95,15 @@ def test_rules_judge_needs_no_model_and_states_the_facts() -> None:
     assert rules_explanation("not_relevant", _facts(pedestrian=True)).startswith("Not relevant: a pedestrian")
     with pytest.raises(ValueError, match="rules_only"):
         judge_event(ChatClient(ScriptedBackend([])), _facts(), [], CATS, Judge.RULES)
+
+
+def test_rules_explanation_of_a_standing_ego_says_so() -> None:
+    # KeyIdent's events include frames where the ego stands, held by the guest (ego at 0.2 km/h)
+    text = rules_explanation("right_ped", dataclasses.replace(_facts(pedestrian=True), ego_speed_kmh=0.2))
+    assert "brakes from" not in text
+    assert text.endswith("the ego is standing still (its hardest deceleration around it: 4.2 m/s²).")
+    moving = rules_explanation("right_ped", dataclasses.replace(_facts(pedestrian=True), ego_speed_kmh=0.6))
+    assert moving.endswith("the ego brakes from 1 km/h at up to 4.2 m/s².")
 
 
 def test_pedestrian_confusion_counts_per_judge() -> None:

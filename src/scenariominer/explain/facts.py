@@ -173,7 +173,10 @@ def rules_explanation(category: str, facts: EventFacts) -> str:
     gap = f"gap {facts.min_gap_m:.1f} m"
     if math.isfinite(facts.min_ttc_s):
         gap += f", time to collision {facts.min_ttc_s:.1f} s"
-    return (
-        f"{_words(category).capitalize()}: " + ", ".join(parts) + f" ({gap}); the ego brakes from "
-        f"{facts.ego_speed_kmh:.0f} km/h at up to {facts.peak_decel_mps2:.1f} m/s²."
-    )
+    decel = f"{facts.peak_decel_mps2:.1f} m/s²"
+    if round(facts.ego_speed_kmh) == 0:
+        # KeyIdent counts a standing ego as braking (held by the guest); "brakes from 0 km/h" is nonsense
+        ego = f"the ego is standing still (its hardest deceleration around it: {decel})"
+    else:
+        ego = f"the ego brakes from {facts.ego_speed_kmh:.0f} km/h at up to {decel}"
+    return f"{_words(category).capitalize()}: " + ", ".join(parts) + f" ({gap}); {ego}."
