@@ -16,6 +16,7 @@ from scenariominer.explain.facts import EventFacts, rules_explanation
 from scenariominer.explain.judge import (
     Judge,
     allowed_categories,
+    copied_definition,
     judge_event,
     rules_only,
     tidy_cut_text,
@@ -138,3 +139,35 @@ def test_an_explanation_with_invented_numbers_is_replaced_by_the_facts() -> None
     assert out.category == "cut_in" and out.description == "A car cuts in."
     assert "6.2" not in out.explanation and "3.2 m" in out.explanation
     assert out.notes and "6.2, 41" in out.notes[0]
+
+
+def test_a_text_copying_a_category_definition_is_not_kept() -> None:
+    # What the embedded 1.5B model wrote for two demo events: the obj_crossing definition, whose
+    # "(not a pedestrian)" then ranked them first for "pedestrian crossing in front of the ego".
+    answer = {
+        "description": "The ego drives straight while a vehicle, cyclist or motorcyclist (not a pedestrian) "
+        "crosses its path",
+        "explanation": "The guest is a vehicle, cyclist or motorcyclist (not a pedestrian) that crosses the "
+        "ego's path in front of it",
+    }
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(answer)])), _facts(), ["obj_crossing"], CATS)
+    assert out.category == "obj_crossing" and out.description == ""  # the tags' description is embedded
+    assert out.explanation == rules_explanation("obj_crossing", _facts())
+    assert [n.split(";")[0] for n in out.notes] == [
+        "the LLM's description repeated the definition of obj_crossing",
+        "the LLM's explanation repeated the definition of obj_crossing",
+    ]
+
+
+def test_copied_definition_needs_a_long_shared_run() -> None:
+    assert copied_definition("A car crosses its path in front of it from the left.", CATS) == ""
+    assert copied_definition("while a vehicle, cyclist or motorcyclist (not a pedestrian) crosses", CATS) == (
+        "obj_crossing"
+    )
+    assert copied_definition("", CATS) == ""
+    honest = {
+        "description": "A cyclist crosses in front of the ego.",
+        "explanation": "The cyclist is 3.2 m ahead.",
+    }
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(honest)])), _facts(), ["obj_crossing"], CATS)
+    assert (out.description, out.explanation, out.notes) == (honest["description"], honest["explanation"], ())

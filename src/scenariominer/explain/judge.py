@@ -48,6 +48,7 @@ __all__ = [
     "JUDGE_EXPLANATION_MAX_CHARS",
     "Judge",
     "allowed_categories",
+    "copied_definition",
     "judge_event",
     "rejudge_events",
     "rules_only",
@@ -135,15 +136,64 @@ def judge_event(
             description=tidy_cut_text(outcome.description, JUDGE_DESCRIPTION_MAX_CHARS),
             explanation=tidy_cut_text(outcome.explanation, JUDGE_EXPLANATION_MAX_CHARS),
         )
-        invented = ungrounded_numbers(outcome.explanation, text)
-        if invented and isinstance(facts, EventFacts):
-            note = (
+        outcome = _checked_texts(outcome, facts, text, categories)
+    return outcome
+
+
+def _checked_texts(
+    outcome: Classification, facts: EventFacts | str, facts_text: str, categories: CategorySet
+) -> Classification:
+    """The answer with a text that does not describe the event replaced, and a note saying why.
+
+    An explanation that quotes numbers absent from the facts, or repeats a category's definition,
+    becomes one written from the facts (when the facts are at hand); a description that repeats a
+    definition is dropped, so the tag description is embedded instead. A small model often copies
+    the prompt's definition ("a vehicle, cyclist or motorcyclist (not a pedestrian) crosses its
+    path"), whose words would then match searches for what it excludes.
+    """
+    notes = list(outcome.notes)
+    description, explanation = outcome.description, outcome.explanation
+    copied = copied_definition(description, categories)
+    if copied:
+        description = ""
+        notes.append(f"the LLM's description repeated the definition of {copied}; the tags' is embedded")
+    if isinstance(facts, EventFacts):
+        invented = ungrounded_numbers(explanation, facts_text)
+        copied = copied_definition(explanation, categories)
+        if invented:
+            notes.append(
                 f"the LLM's explanation quoted numbers that are not in the facts ({', '.join(invented)}); "
                 "replaced by one written from the facts"
             )
+        elif copied:
+            notes.append(
+                f"the LLM's explanation repeated the definition of {copied}; replaced by one written "
+                "from the facts"
+            )
+        if invented or copied:
             explanation = rules_explanation(outcome.category, facts)
-            outcome = dataclasses.replace(outcome, explanation=explanation, notes=(note,))
-    return outcome
+    return dataclasses.replace(outcome, description=description, explanation=explanation, notes=tuple(notes))
+
+
+_WORD = re.compile(r"[a-z0-9]+")
+#: Consecutive words shared with a definition that make a text a copy of it rather than a description.
+COPIED_RUN_WORDS = 8
+
+
+def copied_definition(text: str, categories: CategorySet, min_words: int = COPIED_RUN_WORDS) -> str:
+    """The first category whose definition ``text`` copies ("" when none).
+
+    A copy shares ``min_words`` consecutive words with the definition, case and punctuation ignored.
+    """
+    words = _WORD.findall(text.lower())
+    runs = {tuple(words[i : i + min_words]) for i in range(len(words) - min_words + 1)}
+    if not runs:
+        return ""
+    for category in categories.categories:
+        ref = _WORD.findall(category.definition.lower())
+        if any(tuple(ref[i : i + min_words]) in runs for i in range(len(ref) - min_words + 1)):
+            return category.name
+    return ""
 
 
 _NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d+)?")
