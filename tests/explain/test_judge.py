@@ -171,3 +171,25 @@ def test_copied_definition_needs_a_long_shared_run() -> None:
     }
     out = judge_event(ChatClient(ScriptedBackend([json.dumps(honest)])), _facts(), ["obj_crossing"], CATS)
     assert (out.description, out.explanation, out.notes) == (honest["description"], honest["explanation"], ())
+
+
+def test_an_explanation_that_repeats_the_description_is_replaced() -> None:
+    # The model filled the description up to its 100-character cap (cut mid-word), then copied it.
+    cut = (
+        "The guest was driving straight and the ego was also driving straight, so the gap was small and the E"
+    )
+    out = judge_event(
+        ChatClient(
+            ScriptedBackend(
+                [json.dumps({"category": "unknown_but_relevant", "description": cut, "explanation": cut})]
+            )
+        ),
+        _facts(),
+        ["unknown_but_relevant", "not_relevant"],
+        CATS,
+    )
+    assert out.description == "The guest was driving straight and the ego was also driving straight …"
+    assert out.explanation == rules_explanation(out.category, _facts())
+    assert out.notes == (
+        "the LLM's explanation repeated the description; replaced by one written from the facts",
+    )

@@ -130,26 +130,34 @@ def judge_event(
     messages = judge_messages(text, allowed, categories)
     outcome = ask(client, messages, _answer_model(allowed), max_tokens=max_tokens)
     if outcome.is_valid:
+        # the model sometimes copies its (length-capped, so possibly cut) description as explanation
+        repeated = outcome.explanation.strip() == outcome.description.strip()
         outcome = dataclasses.replace(
             outcome,
             category=allowed[0] if len(allowed) == 1 else outcome.category,
             description=tidy_cut_text(outcome.description, JUDGE_DESCRIPTION_MAX_CHARS),
             explanation=tidy_cut_text(outcome.explanation, JUDGE_EXPLANATION_MAX_CHARS),
         )
-        outcome = _checked_texts(outcome, facts, text, categories)
+        outcome = _checked_texts(outcome, facts, text, categories, repeated=repeated)
     return outcome
 
 
 def _checked_texts(
-    outcome: Classification, facts: EventFacts | str, facts_text: str, categories: CategorySet
+    outcome: Classification,
+    facts: EventFacts | str,
+    facts_text: str,
+    categories: CategorySet,
+    *,
+    repeated: bool = False,
 ) -> Classification:
     """The answer with a text that does not describe the event replaced, and a note saying why.
 
-    An explanation that quotes numbers absent from the facts, or repeats a category's definition,
-    becomes one written from the facts (when the facts are at hand); a description that repeats a
-    definition is dropped, so the tag description is embedded instead. A small model often copies
-    the prompt's definition ("a vehicle, cyclist or motorcyclist (not a pedestrian) crosses its
-    path"), whose words would then match searches for what it excludes.
+    An explanation that quotes numbers absent from the facts, repeats a category's definition or
+    is the description again (``repeated``) becomes one written from the facts (when the facts are
+    at hand); a description that repeats a definition is dropped, so the tag description is
+    embedded instead. A small model often copies the prompt's definition ("a vehicle, cyclist or
+    motorcyclist (not a pedestrian) crosses its path"), whose words would then match searches for
+    what it excludes.
     """
     notes = list(outcome.notes)
     description, explanation = outcome.description, outcome.explanation
@@ -157,22 +165,22 @@ def _checked_texts(
     if copied:
         description = ""
         notes.append(f"the LLM's description repeated the definition of {copied}; the tags' is embedded")
-    if isinstance(facts, EventFacts):
-        invented = ungrounded_numbers(explanation, facts_text)
-        copied = copied_definition(explanation, categories)
-        if invented:
-            notes.append(
-                f"the LLM's explanation quoted numbers that are not in the facts ({', '.join(invented)}); "
-                "replaced by one written from the facts"
-            )
-        elif copied:
-            notes.append(
-                f"the LLM's explanation repeated the definition of {copied}; replaced by one written "
-                "from the facts"
-            )
-        if invented or copied:
-            explanation = rules_explanation(outcome.category, facts)
+    why = _explanation_fault(explanation, facts_text, categories, repeated)
+    if why and isinstance(facts, EventFacts):
+        notes.append(f"the LLM's explanation {why}; replaced by one written from the facts")
+        explanation = rules_explanation(outcome.category, facts)
     return dataclasses.replace(outcome, description=description, explanation=explanation, notes=tuple(notes))
+
+
+def _explanation_fault(explanation: str, facts_text: str, categories: CategorySet, repeated: bool) -> str:
+    """Why the explanation does not explain the event ("" when it does)."""
+    invented = ungrounded_numbers(explanation, facts_text)
+    if invented:
+        return f"quoted numbers that are not in the facts ({', '.join(invented)})"
+    copied = copied_definition(explanation, categories)
+    if copied:
+        return f"repeated the definition of {copied}"
+    return "repeated the description" if repeated else ""
 
 
 _WORD = re.compile(r"[a-z0-9]+")
