@@ -127,11 +127,17 @@ def with_scores(frames: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 
 @pytest.mark.slow  # imports av2's evaluator (torch) and runs TrackEval twice (~10-20 s)
-def test_a_perfect_prediction_scores_one_everywhere(gt: dict[Any, Any], av2_log_dir: Path) -> None:
+def test_a_perfect_prediction_scores_one_everywhere(
+    gt: dict[Any, Any], av2_log_dir: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    import tqdm  # noqa: F401 - imported first (as the embedder does), TQDM_DISABLE no longer counts
+
     pred = {k: with_scores(v) for k, v in gt.items()}
     # a ground-truth pair the prediction does not contain is not evaluated
     gt_more = {**gt, (LOG, "bus in the bike lane"): with_scores(gt[(LOG, PROMPT)])}
+    capfd.readouterr()
     ev = evaluate_mining(pred, gt_more, av2_log_dir.parent)
+    assert "track score thresholds" not in capfd.readouterr().err  # the evaluator's progress bars
     assert (ev.hota_temporal, ev.hota_track) == pytest.approx((1.0, 1.0))
     assert (ev.timestamp_balanced_accuracy, ev.log_balanced_accuracy) == pytest.approx((1.0, 1.0))
     assert (ev.timestamp_f1, ev.log_f1) == (1.0, 1.0)

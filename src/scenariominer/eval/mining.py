@@ -24,6 +24,7 @@ from __future__ import annotations
 import ast
 import contextlib
 import copy
+import io
 import math
 import os
 import warnings
@@ -211,11 +212,16 @@ def _check_alignment(predictions: Submission, ground_truth: Submission) -> None:
 
 @contextlib.contextmanager
 def _quiet_evaluator() -> Iterator[None]:
-    """Silence the evaluator's progress bars and third-party warnings for the duration."""
+    """Silence the evaluator's progress bars and third-party warnings for the duration.
+
+    ``TQDM_DISABLE`` only counts when tqdm is first imported (another library may have imported it
+    already: the embedder does), so the bars, which tqdm writes to ``sys.stderr``, are also sent
+    to a discarded buffer. The evaluator reports failures by raising, never on stderr alone.
+    """
     previous = os.environ.get("TQDM_DISABLE")
     os.environ["TQDM_DISABLE"] = "1"
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), contextlib.redirect_stderr(io.StringIO()):
             warnings.simplefilter("ignore")
             yield
     finally:
