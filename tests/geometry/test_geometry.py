@@ -15,6 +15,7 @@ from scenariominer.geometry import (
     ctrv_predict,
     point_box_distance_m,
     quaternion_matrix,
+    quaternion_x_axis,
     wrap_angle,
     yaw_rate_radps,
 )
@@ -148,6 +149,8 @@ def test_quaternion_matrix_matches_scipy_for_unnormalised_quaternions() -> None:
     quat = np.random.default_rng(5).normal(size=(50, 4)) * 3.0  # (w, x, y, z), any length
     expected = Rotation.from_quat(quat, scalar_first=True).as_matrix()
     np.testing.assert_allclose(quaternion_matrix(quat), expected, atol=1e-12)
+    np.testing.assert_allclose(quaternion_x_axis(quat), expected[:, :, 0], atol=1e-12)
+    assert np.isnan(quaternion_x_axis([0.0, 0.0, 0.0, 0.0])).all()
     np.testing.assert_allclose(quaternion_matrix([1.0, 0.0, 0.0, 0.0]), np.eye(3))
     # a quarter turn about z takes x to y
     c = math.cos(math.pi / 4)

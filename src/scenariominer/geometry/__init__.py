@@ -17,7 +17,13 @@ from scenariominer.geometry.boxes import (
     boxes_overlap,
     point_box_distance_m,
 )
-from scenariominer.geometry.frames import from_local, quaternion_matrix, rotate_xy, to_local
+from scenariominer.geometry.frames import (
+    from_local,
+    quaternion_matrix,
+    quaternion_x_axis,
+    rotate_xy,
+    to_local,
+)
 from scenariominer.geometry.kinematics import ctrv_predict, path_curvature_1pm, yaw_rate_radps
 
 __all__ = [
@@ -29,6 +35,7 @@ __all__ = [
     "path_curvature_1pm",
     "point_box_distance_m",
     "quaternion_matrix",
+    "quaternion_x_axis",
     "rotate_xy",
     "to_local",
     "wrap_angle",

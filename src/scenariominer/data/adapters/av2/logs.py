@@ -41,7 +41,7 @@ from scenariominer.config import Config
 from scenariominer.data.categories import EGO_CATEGORY
 from scenariominer.data.log import FloatArray, Log, LogFormatError, build_log
 from scenariominer.data.sources import LogSource
-from scenariominer.geometry import quaternion_matrix, to_local, wrap_angle
+from scenariominer.geometry import quaternion_matrix, quaternion_x_axis, to_local, wrap_angle
 
 ANNOTATIONS_WITH_EGO_FILE = "annotations_with_ego.feather"
 ANNOTATIONS_FILE = "annotations.feather"
@@ -377,7 +377,7 @@ def read_av2_log(
     # its own x axis (the first column of its rotation).
     mat_rows = mat_pose[inverse]
     xyz_city = np.einsum("nij,nj->ni", mat_rows, t_ego) + xyz_pose[inverse]
-    heading = np.einsum("nij,nj->ni", mat_rows, quaternion_matrix(quat)[:, :, 0])
+    heading = np.einsum("nij,nj->ni", mat_rows, quaternion_x_axis(quat))
     yaw_city = np.arctan2(heading[:, 1], heading[:, 0])
     # The ego's box centre lies AV2_EGO_CENTER_OFFSET_M ahead of the pose (rear axle) along its heading
     # (in the ground plane, so Log.ego_pose_xy_m gives the pose back exactly; z stays the pose's).
