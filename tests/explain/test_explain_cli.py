@@ -166,3 +166,13 @@ def test_eval_braking_sets_side_by_side(analysed: Path, tmp_path: Path) -> None:
         ),
     )
     assert same.exit_code == 2 and "unique" in _flat(same.output)
+
+
+def test_show_names_its_png_after_the_event_once() -> None:
+    from scenariominer.api.braking import ShowRequest
+
+    log, event = "e63bc8f8", "e63bc8f8:e9154a48:316412025793275471"
+    assert ShowRequest(log, event_id=event).out_path() == Path("e63bc8f8_e9154a48_316412025793275471.png")
+    assert ShowRequest(log, event_id="guest:1").out_path() == Path("e63bc8f8_guest_1.png")
+    assert ShowRequest(log).out_path() == Path("e63bc8f8_event.png")
+    assert ShowRequest(log, out=Path("x.png"), event_id=event).out_path() == Path("x.png")

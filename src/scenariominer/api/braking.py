@@ -118,8 +118,19 @@ class ShowRequest:
     event_id: str | None = None
 
     def out_path(self) -> Path:
-        """The PNG to write: ``out``, or ``<log>_<event>.png`` in the current folder."""
-        return self.out or Path(f"{self.log_id}_{(self.event_id or 'event').replace(':', '_')}.png")
+        """The PNG to write: ``out``, or one named after the event in the current folder.
+
+        An event id already starts with its log id (``<log>:<guest>:<start_ns>``), so the name is
+        the event id with ``_`` for ``:`` (``<log>_event.png`` for the hardest braking).
+        """
+        if self.out is not None:
+            return self.out
+        if self.event_id is None:
+            return Path(f"{self.log_id}_event.png")
+        name = self.event_id
+        if not name.startswith(f"{self.log_id}:"):
+            name = f"{self.log_id}:{name}"
+        return Path(f"{name.replace(':', '_')}.png")
 
 
 def show(store: ScenarioStore, request: ShowRequest, config: Config) -> Path:
