@@ -105,6 +105,10 @@ def test_rules_explanation_of_a_standing_ego_says_so() -> None:
     assert text.endswith("the ego is standing still (its hardest deceleration around it: 4.2 m/s²).")
     moving = rules_explanation("right_ped", dataclasses.replace(_facts(pedestrian=True), ego_speed_kmh=0.6))
     assert moving.endswith("the ego brakes from 1 km/h at up to 4.2 m/s².")
+    unknown = rules_explanation(
+        "right_ped", dataclasses.replace(_facts(pedestrian=True), ego_speed_kmh=math.nan)
+    )
+    assert unknown.endswith("; the ego brakes at up to 4.2 m/s².")  # a missing speed is left out
 
 
 def test_pedestrian_confusion_counts_per_judge() -> None:

@@ -174,7 +174,9 @@ def rules_explanation(category: str, facts: EventFacts) -> str:
     if math.isfinite(facts.min_ttc_s):
         gap += f", time to collision {facts.min_ttc_s:.1f} s"
     decel = f"{facts.peak_decel_mps2:.1f} m/s²"
-    if round(facts.ego_speed_kmh) == 0:
+    if not math.isfinite(facts.ego_speed_kmh):
+        ego = f"the ego brakes at up to {decel}"
+    elif abs(facts.ego_speed_kmh) < 0.5:
         # KeyIdent counts a standing ego as braking (held by the guest); "brakes from 0 km/h" is nonsense
         ego = f"the ego is standing still (its hardest deceleration around it: {decel})"
     else:
