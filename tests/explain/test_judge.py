@@ -197,3 +197,31 @@ def test_an_explanation_that_repeats_the_description_is_replaced() -> None:
     assert out.notes == (
         "the LLM's explanation repeated the description; replaced by one written from the facts",
     )
+
+
+@pytest.mark.parametrize(
+    ("facts", "explanation", "quantity"),
+    [
+        # the facts' numbers, but put on a time to collision the facts do not have (none predicted)
+        (
+            dataclasses.replace(_facts(), min_ttc_s=math.inf),
+            "Time to collision 4.2 s, gap 3.2 m.",
+            "time to collision",
+        ),
+        (_facts(), "It keeps a time headway of 1.4 s behind the car.", "time headway"),  # headway is NaN
+    ],
+)
+def test_an_explanation_naming_a_quantity_the_facts_lack_is_replaced(
+    facts: EventFacts, explanation: str, quantity: str
+) -> None:
+    answer = {"description": "A car cuts in.", "explanation": explanation}
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(answer)])), facts, ["cut_in"], CATS)
+    assert out.explanation == rules_explanation("cut_in", facts)
+    why = f"named a {quantity} the facts do not have"
+    assert out.notes == (f"the LLM's explanation {why}; replaced by one written from the facts",)
+
+
+def test_an_explanation_naming_a_quantity_the_facts_have_is_kept() -> None:
+    kept = {"description": "A car cuts in.", "explanation": "Time to collision 1.4 s at a 3.2 m gap."}
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(kept)])), _facts(), ["cut_in"], CATS)
+    assert out.explanation == kept["explanation"] and out.notes == ()

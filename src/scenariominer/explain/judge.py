@@ -172,11 +172,22 @@ def _checked_texts(
     return dataclasses.replace(outcome, description=description, explanation=explanation, notes=tuple(notes))
 
 
+#: Quantities the facts state only when they exist (no collision predicted: no time to collision),
+#: with the words an explanation names them by.
+_OPTIONAL_QUANTITIES = (
+    ("time to collision", re.compile(r"time[ -]to[ -](?:collision|crash)|\bttc\b")),
+    ("time headway", re.compile(r"headway")),
+)
+
+
 def _explanation_fault(explanation: str, facts_text: str, categories: CategorySet, repeated: bool) -> str:
     """Why the explanation does not explain the event ("" when it does)."""
     invented = ungrounded_numbers(explanation, facts_text)
     if invented:
         return f"quoted numbers that are not in the facts ({', '.join(invented)})"
+    for name, words in _OPTIONAL_QUANTITIES:
+        if name not in facts_text and words.search(explanation.lower()):
+            return f"named a {name} the facts do not have"
     copied = copied_definition(explanation, categories)
     if copied:
         return f"repeated the definition of {copied}"
