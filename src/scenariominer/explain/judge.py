@@ -152,11 +152,12 @@ def _checked_texts(
 ) -> Classification:
     """The answer with a text that does not describe the event replaced, and a note saying why.
 
-    An explanation that quotes numbers absent from the facts, repeats a category's definition or
-    is the description again (``repeated``) becomes one written from the facts (when the facts are
-    at hand); a description that repeats a definition is dropped, so the tag description is
-    embedded instead. A small model often copies the prompt's definition ("a vehicle, cyclist or
-    motorcyclist (not a pedestrian) crosses its path"), whose words would then match searches for
+    An explanation that quotes numbers absent from the facts, names a time to collision or a
+    headway the facts do not have, repeats a category's definition or is the description again
+    (``repeated``) becomes one written from the facts (when the facts are at hand); a description
+    that repeats a definition is dropped, so the tag description is embedded instead. A small
+    model often copies the prompt's definition ("a vehicle, cyclist or motorcyclist (not a
+    pedestrian) crosses its path"), whose words would then match searches for
     what it excludes.
     """
     notes = list(outcome.notes)
