@@ -24,8 +24,8 @@ from scenariominer.data.sources import LogReader
 from scenariominer.progress import NullProgress, Progress, step
 from scenariominer.store import ScenarioStore, StoreCheck, StoreInfo, StoreRef, resolve_store_path
 
-#: With at most this many pool workers, ``ingest`` on the default process executor runs in this process.
-_MIN_POOL_WORKERS = 2
+#: The default process executor starts a pool for ``ingest`` only with at least this many workers.
+_POOL_MIN_WORKERS = 3
 
 if TYPE_CHECKING:
     from scenariominer.exec import Executor
@@ -130,7 +130,7 @@ def ingest(
     with executor_for(config, executor) as runner:
         # Two workers gain nothing over this process, which overlaps each commit with the next read
         # (benchmarks/ingest.py: 100 real logs in 5.2 s here, 5.4-5.7 s with two workers).
-        in_process = default_pool and runner.workers <= _MIN_POOL_WORKERS
+        in_process = default_pool and runner.workers < _POOL_MIN_WORKERS
         results = ingest_sources(
             paths, store, config, force=force, readers=readers, progress=progress,
             executor=None if in_process else runner, reopen=StoreRef.of(store), min_pool_bytes=small_below,

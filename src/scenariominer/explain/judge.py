@@ -166,10 +166,11 @@ def _checked_texts(
     if copied:
         description = ""
         notes.append(f"the LLM's description repeated the definition of {copied}; the tags' is embedded")
-    why = _explanation_fault(explanation, facts_text, categories, repeated)
-    if why and isinstance(facts, EventFacts):
-        notes.append(f"the LLM's explanation {why}; replaced by one written from the facts")
-        explanation = rules_explanation(outcome.category, facts)
+    if isinstance(facts, EventFacts):  # stored facts' text alone cannot write a replacement
+        why = _explanation_fault(explanation, facts_text, categories, repeated)
+        if why:
+            notes.append(f"the LLM's explanation {why}; replaced by one written from the facts")
+            explanation = rules_explanation(outcome.category, facts)
     return dataclasses.replace(outcome, description=description, explanation=explanation, notes=tuple(notes))
 
 
