@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import orjson
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
@@ -518,10 +519,22 @@ def find_map_file(path: Path) -> Path:
     )
 
 
-def _load_layers(file: Path) -> dict[str, dict[str, Any]]:
-    """Parse the JSON of a map file and return its three layers (each an object keyed by id)."""
+def _load_layers(file: Path, *, fast: bool = False) -> dict[str, dict[str, Any]]:
+    """Parse the JSON of a map file and return its three layers (each an object keyed by id).
+
+    ``fast`` parses with orjson, about three times faster than :mod:`json`, for a map that is then
+    checked by :func:`_quick_check`; orjson reads some bad input differently (an integer beyond 64
+    bits becomes a float), so a file it refuses or a map that fails the check is parsed again by
+    :mod:`json` (:func:`_valid_layers`): what is accepted and every message are :mod:`json`'s.
+    """
     try:
-        doc = json.loads(file.read_bytes().decode("utf-8"))
+        raw = file.read_bytes()
+        try:
+            doc = orjson.loads(raw) if fast else None
+        except orjson.JSONDecodeError:
+            doc = None
+        if doc is None:
+            doc = json.loads(raw.decode("utf-8"))
     except OSError as exc:
         raise LogFormatError(file, f"cannot read the vector map ({exc.strerror or exc})") from None
     except UnicodeDecodeError as exc:
@@ -601,6 +614,20 @@ def _gather(raw: Any, min_points: int, coords: list[Any]) -> bool:
     return True
 
 
+def _valid_layers(file: Path) -> dict[str, dict[str, Any]]:
+    """The layers of the map ``file``, parsed fast and checked in one pass where it is valid.
+
+    A map that fails :func:`_quick_check` is parsed again by :mod:`json` and record by record, which
+    raises naming the record at fault.
+    """
+    layers = _load_layers(file, fast=True)
+    if _quick_check(layers):
+        return layers
+    layers = _load_layers(file)
+    _parse_layers(layers, file)  # raises, naming the record at fault
+    return layers
+
+
 def validate_av2_map(path: Path) -> Path:
     """Check that :func:`read_av2_map` will read the map at ``path``, without building its geometry.
 
@@ -617,9 +644,7 @@ def validate_av2_map(path: Path) -> Path:
         LogFormatError: as :func:`read_av2_map`.
     """
     file = find_map_file(path)
-    layers = _load_layers(file)
-    if not _quick_check(layers):
-        _parse_layers(layers, file)  # raises, naming the record at fault
+    _valid_layers(file)
     return file
 
 
@@ -634,7 +659,7 @@ def read_av2_map(path: Path) -> Av2Map:
             the message names the file and the offending record.
     """
     file = find_map_file(path)
-    lanes, crossings, areas = _parse_layers(_load_layers(file), file)
+    lanes, crossings, areas = _parse_layers(_valid_layers(file), file)
     return Av2Map(lane_segments=lanes, pedestrian_crossings=crossings, drivable_areas=areas, source_path=file)
 
 
