@@ -111,6 +111,18 @@ def test_rules_explanation_of_a_standing_ego_says_so() -> None:
     assert unknown.endswith("; the ego brakes at up to 4.2 m/s².")  # a missing speed is left out
 
 
+def test_rules_explanation_says_where_the_guest_is_in_plain_english() -> None:
+    # it read "a regular vehicle front of the ego" and "back-left of the ego"
+    ahead = rules_explanation("obj_crossing", _facts())
+    assert ahead.startswith("Obj crossing: a regular vehicle ahead of the ego, moving across")
+    behind = rules_explanation("rear_end", dataclasses.replace(_facts(), position_closest="BACK_LEFT"))
+    assert "a regular vehicle behind and to the left of the ego," in behind
+    right = rules_explanation("right_ped", dataclasses.replace(_facts(pedestrian=True), position_closest="RIGHT"))
+    assert "a pedestrian to the right of the ego," in right
+    unseen = rules_explanation("right_ped", dataclasses.replace(_facts(), position_closest=""))
+    assert "a regular vehicle near the ego," in unseen
+
+
 def test_pedestrian_confusion_counts_per_judge() -> None:
     peds = {("L", "p1"), ("L", "p2")}
     preds = {
@@ -225,3 +237,33 @@ def test_an_explanation_naming_a_quantity_the_facts_have_is_kept() -> None:
     kept = {"description": "A car cuts in.", "explanation": "Time to collision 1.4 s at a 3.2 m gap."}
     out = judge_event(ChatClient(ScriptedBackend([json.dumps(kept)])), _facts(), ["cut_in"], CATS)
     assert out.explanation == kept["explanation"] and out.notes == ()
+
+
+@pytest.mark.parametrize(
+    ("explanation", "why"),
+    [
+        # what the embedded 1.5B model wrote for events of the three real logs (peak decel 2.5 m/s²)
+        (
+            "The car is moving the same way, and the gap is 3.2 m, small enough to allow the ego to turn "
+            "right without braking.",
+            "said the ego does not brake, while it decelerates at up to 4.2 m/s²",
+        ),
+        ("The ego did not need to brake for the car 3.2 m away.", "said the ego does not brake"),
+        ("The car turns, creating a small gap of 3.2 m and a timeTo collision of 1.4 s.", "has a garbled word"),
+    ],
+)
+def test_an_explanation_denying_the_braking_or_garbled_is_replaced(explanation: str, why: str) -> None:
+    answer = {"description": "A car cuts in.", "explanation": explanation}
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(answer)])), _facts(), ["cut_in"], CATS)
+    assert out.explanation == rules_explanation("cut_in", _facts())
+    assert len(out.notes) == 1 and out.notes[0].startswith(f"the LLM's explanation {why}")
+
+
+def test_an_explanation_of_a_gentle_slow_down_may_say_there_was_no_braking() -> None:
+    gentle = dataclasses.replace(_facts(), peak_decel_mps2=0.3)  # below CLEAR_BRAKING_MPS2
+    answer = {"description": "A car cuts in.", "explanation": "The ego rolls on without braking hard."}
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(answer)])), gentle, ["cut_in"], CATS)
+    assert out.explanation == answer["explanation"] and out.notes == ()
+    braking = {"description": "A car cuts in.", "explanation": "The ego brakes for the car 3.2 m ahead."}
+    out = judge_event(ChatClient(ScriptedBackend([json.dumps(braking)])), _facts(), ["cut_in"], CATS)
+    assert out.explanation == braking["explanation"] and out.notes == ()

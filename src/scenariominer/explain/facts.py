@@ -33,6 +33,18 @@ _HEADING_WORDS = {
     HeadingTag.RIGHT: "moving across the ego's path towards its right",
 }
 
+#: Where the guest is, seen from the ego, as a phrase ("" — never observed — reads "near the ego").
+_POSITION_WORDS = {
+    PositionTag.FRONT: "ahead of the ego",
+    PositionTag.FRONT_LEFT: "ahead and to the left of the ego",
+    PositionTag.LEFT: "to the left of the ego",
+    PositionTag.BACK_LEFT: "behind and to the left of the ego",
+    PositionTag.BACK: "behind the ego",
+    PositionTag.BACK_RIGHT: "behind and to the right of the ego",
+    PositionTag.RIGHT: "to the right of the ego",
+    PositionTag.FRONT_RIGHT: "ahead and to the right of the ego",
+}
+
 
 def _words(category: str) -> str:
     return category.lower().replace("_", " ")
@@ -162,8 +174,8 @@ def event_facts(log: Log, pair: PairTags, crit: Criticality, start_ns: int, min_
 
 def rules_explanation(category: str, facts: EventFacts) -> str:
     """One sentence naming the facts behind a category, written without a model."""
-    where = facts.position_closest.lower().replace("_", "-") or "near"
-    parts = [f"a {facts.guest} {where} of the ego"]
+    where = _POSITION_WORDS[PositionTag(facts.position_closest)] if facts.position_closest else "near the ego"
+    parts = [f"a {facts.guest} {where}"]
     if facts.heading:
         parts.append(_HEADING_WORDS[HeadingTag(facts.heading)])
     if facts.guest_lateral:

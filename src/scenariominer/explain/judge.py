@@ -153,8 +153,9 @@ def _checked_texts(
     """The answer with a text that does not describe the event replaced, and a note saying why.
 
     An explanation that quotes numbers absent from the facts, names a time to collision or a
-    headway the facts do not have, repeats a category's definition or is the description again
-    (``repeated``) becomes one written from the facts (when the facts are at hand); a description
+    headway the facts do not have, says the ego does not brake while it clearly does
+    (:data:`CLEAR_BRAKING_MPS2`), has a garbled word ("timeTo"), repeats a category's definition or
+    is the description again (``repeated``) becomes one written from the facts (when the facts are at hand); a description
     that repeats a definition is dropped, so the tag description is embedded instead. A small
     model often copies the prompt's definition ("a vehicle, cyclist or motorcyclist (not a
     pedestrian) crosses its path"), whose words would then match searches for
@@ -167,7 +168,7 @@ def _checked_texts(
         description = ""
         notes.append(f"the LLM's description repeated the definition of {copied}; the tags' is embedded")
     if isinstance(facts, EventFacts):  # stored facts' text alone cannot write a replacement
-        why = _explanation_fault(explanation, facts_text, categories, repeated)
+        why = _explanation_fault(explanation, facts, facts_text, categories, repeated)
         if why:
             notes.append(f"the LLM's explanation {why}; replaced by one written from the facts")
             explanation = rules_explanation(outcome.category, facts)
@@ -182,7 +183,20 @@ _OPTIONAL_QUANTITIES = (
 )
 
 
-def _explanation_fault(explanation: str, facts_text: str, categories: CategorySet, repeated: bool) -> str:
+#: Words that say the ego did not brake.
+_NO_BRAKING = re.compile(
+    r"\bwithout (?:any |the need (?:for|to) |needing to |having to )?brak|\bno (?:need (?:for|to) )?brak"
+    r"|\b(?:does|did|do|need|needs|needed)(?: not|n't)(?: need to| have to)? brake|\bnever brakes?\b"
+)
+#: A deceleration (m/s²) beyond which the ego clearly brakes.
+CLEAR_BRAKING_MPS2 = 1.0
+#: Two words run together with a capital inside ("timeTo collision"): a small model's garbled token.
+_RUN_TOGETHER = re.compile(r"\b[a-z]+[A-Z][a-z]+\b")
+
+
+def _explanation_fault(
+    explanation: str, facts: EventFacts, facts_text: str, categories: CategorySet, repeated: bool
+) -> str:
     """Why the explanation does not explain the event ("" when it does)."""
     invented = ungrounded_numbers(explanation, facts_text)
     if invented:
@@ -190,6 +204,11 @@ def _explanation_fault(explanation: str, facts_text: str, categories: CategorySe
     for name, words in _OPTIONAL_QUANTITIES:
         if name not in facts_text and words.search(explanation.lower()):
             return f"named a {name} the facts do not have"
+    if facts.peak_decel_mps2 >= CLEAR_BRAKING_MPS2 and _NO_BRAKING.search(explanation.lower()):
+        return f"said the ego does not brake, while it decelerates at up to {facts.peak_decel_mps2:.1f} m/s²"
+    garbled = _RUN_TOGETHER.search(explanation)
+    if garbled:
+        return f"has a garbled word ({garbled.group()!r})"
     copied = copied_definition(explanation, categories)
     if copied:
         return f"repeated the definition of {copied}"
