@@ -117,7 +117,8 @@ def test_rules_explanation_says_where_the_guest_is_in_plain_english() -> None:
     assert ahead.startswith("Obj crossing: a regular vehicle ahead of the ego, moving across")
     behind = rules_explanation("rear_end", dataclasses.replace(_facts(), position_closest="BACK_LEFT"))
     assert "a regular vehicle behind and to the left of the ego," in behind
-    right = rules_explanation("right_ped", dataclasses.replace(_facts(pedestrian=True), position_closest="RIGHT"))
+    ped_right = dataclasses.replace(_facts(pedestrian=True), position_closest="RIGHT")
+    right = rules_explanation("right_ped", ped_right)
     assert "a pedestrian to the right of the ego," in right
     unseen = rules_explanation("right_ped", dataclasses.replace(_facts(), position_closest=""))
     assert "a regular vehicle near the ego," in unseen
@@ -249,7 +250,10 @@ def test_an_explanation_naming_a_quantity_the_facts_have_is_kept() -> None:
             "said the ego does not brake, while it decelerates at up to 4.2 m/s²",
         ),
         ("The ego did not need to brake for the car 3.2 m away.", "said the ego does not brake"),
-        ("The car turns, creating a small gap of 3.2 m and a timeTo collision of 1.4 s.", "has a garbled word"),
+        (
+            "The car turns, creating a small gap of 3.2 m and a timeTo collision of 1.4 s.",
+            "has a garbled word",
+        ),
     ],
 )
 def test_an_explanation_denying_the_braking_or_garbled_is_replaced(explanation: str, why: str) -> None:
