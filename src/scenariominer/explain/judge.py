@@ -156,9 +156,9 @@ def _checked_texts(
     headway the facts do not have, says the ego does not brake while it clearly does
     (:data:`CLEAR_BRAKING_MPS2`), has a garbled word ("timeTo"), repeats a category's definition or
     is the description again (``repeated``) becomes one written from the facts (when the facts are
-    at hand); a description that repeats a definition is dropped, so the tag description is embedded instead. A small
-    model often copies the prompt's definition ("a vehicle, cyclist or motorcyclist (not a
-    pedestrian) crosses its path"), whose words would then match searches for
+    at hand); a description that repeats a definition is dropped, so the tag description is
+    embedded instead. A small model often copies the prompt's definition ("a vehicle, cyclist or
+    motorcyclist (not a pedestrian) crosses its path"), whose words would then match searches for
     what it excludes.
     """
     notes = list(outcome.notes)
