@@ -485,3 +485,19 @@ def test_wheelchair_users_surrounded_objects_and_the_hyphenated_ego() -> None:
     assert read_plan("pedestrians near the ego-vehicle") == read_plan("pedestrians near the ego vehicle")
     # "being ..." after another road user is a clause on it: never read in part
     assert read_plan("car in front of ego-vehicle being cut off", partial=True) is None
+
+
+def test_mine_says_plainly_when_nothing_matches_and_no_model_was_asked(
+    tmp_path: Path, av2_log_dir: Path
+) -> None:
+    from typer.testing import CliRunner
+
+    from scenariominer.cli import app
+
+    # the shared log has no wheelchair: it printed an empty table and "(generated, 0 attempt(s))"
+    args = ["mine", "person in a wheelchair", "--logs", str(av2_log_dir), "--no-bank"]
+    result = CliRunner().invoke(app, [*args, "--store", str(tmp_path / "st")])
+    assert result.exit_code == 0, result.output
+    assert "no match of 'person in a wheelchair' in 1 log(s)" in result.output
+    assert "no model call" in result.output and "attempt(s)" not in result.output
+    assert "┏" not in result.output  # no empty table

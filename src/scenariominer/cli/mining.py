@@ -112,18 +112,26 @@ def render_query(report: QueryReport) -> None:
                 _seconds(int(ts[-1]), t0),
                 str(len(rel_rows)) if related.any() else "-",
             )
-    out.print(table)
+    if table.row_count:
+        out.print(table)
+    else:
+        out.print(f"no match of {safe(repr(report.description))} in {report.n_logs} log(s)", soft_wrap=True)
     for failure in report.failures:
         err_console().print(
             f"[red]failed[/red] on {safe(failure.log_id)}: {safe(failure.error.feedback())}", soft_wrap=True
         )
     s = report.summary()
     out.print(
-        f"status {s['status']} ({s['source']}, {s['attempts_used']} attempt(s)); "
+        f"status {s['status']} ({s['source']}, {_attempts(int(s['attempts_used']))}); "
         f"generation {s['generation_s']:.1f} s, execution {s['execution_s']:.2f} s over {s['n_logs']}"
         f" log(s); {s['n_matching_logs']} log(s) match, {s['n_failed_logs']} failed",
         soft_wrap=True,
     )
+
+
+def _attempts(n: int) -> str:
+    """How many times the model was asked ("no model call" for a program the phrase rules built)."""
+    return "no model call" if n == 0 else f"{n} attempt(s)"
 
 
 def read_program_file(path: Path) -> str:
