@@ -44,12 +44,14 @@ def test_risk_type_mapping(category: str, guest: str, expected: str) -> None:
 
 def test_caption_is_facts_then_description_and_capped() -> None:
     r = _record(
-        facts="guest: bus, gap 12 m",
+        facts="guest: bus\nsmallest gap:  12.0 m\n",
         llm_description="",
         tag_description="Overview: a bus. Initial tags: x" * 1,
     )
     q = query_from_event(r, CbrConfig())
-    assert q.caption == "guest: bus, gap 12 m Overview: a bus."
+    # the facts' lines were run together ("guest: bus smallest gap: 12.0 m Overview: ...")
+    assert q.caption == "guest: bus; smallest gap: 12.0 m. Overview: a bus."
+    assert query_from_event(_record(facts="", llm_description="A bus."), CbrConfig()).caption == "A bus."
     long = query_from_event(_record(llm_description="word " * 400), CbrConfig())
     assert len(long.caption) <= 700 and long.caption.endswith("...")
 

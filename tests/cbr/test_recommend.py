@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from scenariominer.api.cbr import _recommend_notes
 from scenariominer.cbr.cases import Case
 from scenariominer.cbr.recommend import Query, RecommendSettings, recommend
 from scenariominer.cbr.retrieve import retrieve
+from scenariominer.cbr.rollout import RECORDED, RolloutOutcome
 from scenariominer.cbr.vocab import CbrError
 from scenariominer.llm.base import Role
 from scenariominer.llm.client import ChatClient
@@ -123,3 +127,20 @@ def test_added_case_is_retrieved_next_time(tmp_path: Path) -> None:
     assert base.add([new], EMBEDDER, 0.97).added == ("n1",)
     after = retrieve(base, caption, "vehicle_ahead", 1, selection="similarity", embedder=EMBEDDER)
     assert after[0].case.case_id == "n1"
+
+
+def _outcome(name: str, collision: bool) -> RolloutOutcome:
+    path = np.zeros(3)
+    first_s = 2.4 if collision else math.nan
+    return RolloutOutcome(name, 0.0 if collision else 2.0, math.inf, collision, first_s, "car", path, path)
+
+
+def test_a_recommendation_warns_of_an_empty_case_base_and_of_a_collision_the_recording_avoided() -> None:
+    # `recommend` on a store without a case base said only "retrieved cases none (zero-shot)", and a
+    # manoeuvre that collides in the rollout check where the recorded ego did not was shown unflagged
+    notes = _recommend_notes(0, 3, _outcome("evasive_steering_left", True), _outcome(RECORDED, False))
+    assert len(notes) == 2
+    assert notes[0].startswith("the store has no case base") and "cbr build" in notes[0]
+    assert notes[1].startswith("the recommended evasive_steering_left collides in the rollout check at 2.4 s")
+    assert _recommend_notes(0, 0, _outcome("brake", False), _outcome(RECORDED, False)) == ()  # k=0 asked
+    assert _recommend_notes(5, 3, _outcome("brake", True), _outcome(RECORDED, True)) == ()  # unavoidable

@@ -208,10 +208,12 @@ class RecommendResult:
     outcomes: dict[str, RolloutOutcome]
     picture: Path
     seconds: float
+    notes: tuple[str, ...] = ()
 
     def to_json_dict(self) -> dict[str, Any]:
         """JSON-ready form."""
         return {
+            "notes": list(self.notes),
             "query": dataclasses.asdict(self.query),
             "recommendation": self.recommendation.to_json_dict(),
             "rollout": {
@@ -267,7 +269,26 @@ def recommend(
     short_id = f"{record.log_id[:8]}:{record.guest_id[:8]}:{record.start_ns}"
     title = f"event {short_id} ({query.risk_type}): recommended {rec.manoeuvre}"
     picture = plot_rollout(scene, outcomes, rec.manoeuvre, out, title)
-    return RecommendResult(query, rec, outcomes, picture, time.perf_counter() - start)
+    notes = _recommend_notes(len(base), settings.k, outcomes[rec.manoeuvre], outcomes[RECORDED])
+    return RecommendResult(query, rec, outcomes, picture, time.perf_counter() - start, notes)
+
+
+def _recommend_notes(
+    n_cases: int, k: int, recommended: RolloutOutcome, recorded: RolloutOutcome
+) -> tuple[str, ...]:
+    """What a user must know before trusting a recommendation (an empty case base, a failed check)."""
+    notes = []
+    if k > 0 and n_cases == 0:
+        notes.append(
+            "the store has no case base, so no case was retrieved (zero-shot): "
+            "`scenariominer cbr build` makes one, `cbr add` adds confirmed events"
+        )
+    if recommended.collision and not recorded.collision:
+        notes.append(
+            f"the recommended {recommended.manoeuvre} collides in the rollout check at "
+            f"{recommended.first_collision_s:.1f} s while the recorded driving does not: review it before use"
+        )
+    return tuple(notes)
 
 
 @dataclass(frozen=True)

@@ -1,13 +1,13 @@
 """From our own logs: an analysed braking event becomes a CBR query and a rollout scene.
 
-Caption: the event's measured facts (who, speeds, relative heading, manoeuvres, gap, TTC) followed
-by its description (the LLM's rephrased description when it has one, else the overview sentence of
-the rule-based tag description), cut at :data:`MAX_CAPTION_CHARS`. Risk type: a pedestrian or cyclist
-guest is ``pedestrian``; otherwise the event's category through ``cbr.category_map``
-(``lead_brake``/``approach_stop`` -> vehicle ahead, ``cut_in`` -> merging vehicle,
-``obj_crossing`` -> adjacent vehicle, ``left_oppo`` -> opposite turning vehicle, ``right_ped`` ->
-pedestrian), and ``cbr.default_risk_type`` for anything else. The conflict time is the event's
-closest ego-guest approach.
+Caption: the event's measured facts (who, speeds, relative heading, manoeuvres, gap, TTC; one clause
+each, separated by semicolons) followed by its description (the LLM's rephrased description when it
+has one, else the overview sentence of the rule-based tag description), cut at
+:data:`MAX_CAPTION_CHARS`. Risk type: a pedestrian or cyclist guest is ``pedestrian``; otherwise the
+event's category through ``cbr.category_map`` (``lead_brake``/``approach_stop`` -> vehicle ahead,
+``cut_in`` -> merging vehicle, ``obj_crossing`` -> adjacent vehicle, ``left_oppo`` -> opposite
+turning vehicle, ``right_ped`` -> pedestrian), and ``cbr.default_risk_type`` for anything else. The
+conflict time is the event's closest ego-guest approach.
 """
 
 from __future__ import annotations
@@ -43,8 +43,10 @@ def risk_type_of(record: EventRecord, cfg: CbrConfig) -> str:
 
 def query_from_event(record: EventRecord, cfg: CbrConfig) -> Query:
     """The CBR query of an analysed event (caption at most :data:`MAX_CAPTION_CHARS` long)."""
-    text = record.llm_description or record.tag_description.split("Initial tags", 1)[0]
-    caption = " ".join(f"{record.facts} {text}".split())
+    text = " ".join((record.llm_description or record.tag_description.split("Initial tags", 1)[0]).split())
+    # the facts are one "name: value" per line: kept apart as clauses, not run into one another
+    facts = "; ".join(" ".join(line.split()) for line in record.facts.splitlines() if line.strip())
+    caption = f"{facts}. {text}" if facts and text else facts or text
     if len(caption) > MAX_CAPTION_CHARS:
         caption = caption[: MAX_CAPTION_CHARS - 3].rsplit(" ", 1)[0] + "..."
     return Query(record.event_id, caption, risk_type_of(record, cfg))

@@ -235,8 +235,11 @@ def recommend(
     shown = ", ".join(f"{r.case.case_id} ({_num(r.score)})" for r in rec.retrieved) or "none (zero-shot)"
     o.print(f"[bold]retrieved cases[/bold] {safe(shown)}", soft_wrap=True, highlight=False)
     o.print("[bold]rollout check[/bold] (from the manoeuvre start, other road users on their recorded paths)")
-    o.print("  " + safe(_outcome_line(result.outcomes[RECORDED])), highlight=False)
-    o.print("  " + safe(_outcome_line(result.outcomes[rec.manoeuvre])) + "  <- recommended", highlight=False)
+    o.print("  " + safe(_outcome_line(result.outcomes[RECORDED])), highlight=False, soft_wrap=True)
+    recommended = safe(_outcome_line(result.outcomes[rec.manoeuvre]))
+    o.print(f"  {recommended}  <- recommended", highlight=False, soft_wrap=True)
+    for note in result.notes:
+        o.print(f"[yellow]note:[/yellow] {safe(note)}", soft_wrap=True, highlight=False)
     o.print(
         f"model time {rec.latency_s:.1f} s{' (cached)' if rec.cached else ''}, total {result.seconds:.1f} s; "
         f"wrote {safe(result.picture)}",
