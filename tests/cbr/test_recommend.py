@@ -89,6 +89,18 @@ def test_zero_shot_prompt_has_no_examples(tmp_path: Path) -> None:
     assert rec.retrieved == ()
 
 
+def test_a_field_written_up_to_its_cap_ends_at_a_full_sentence(tmp_path: Path) -> None:
+    # the real model's justification ended "... at a junction. This manoeuvre will be" (120 characters)
+    cut = "The ego should turn left to avoid the oncoming vehicle turning across its path. This manoeuvre w"
+    backend = ScriptedBackend([answer("evasive_steering_left", justification=cut)])
+    settings = RecommendSettings(k=0, max_field_chars=len(cut))
+    rec = recommend(QUERY, case_base(tmp_path), ChatClient(backend), EMBEDDER, settings)
+    assert rec.answer["justification"] == (
+        "The ego should turn left to avoid the oncoming vehicle turning across its path."
+    )
+    assert rec.answer["road_context"] == "two-lane road" and rec.manoeuvre == "evasive_steering_left"
+
+
 def test_schema_violation_is_repaired_once(tmp_path: Path) -> None:
     base = case_base(tmp_path)
     backend = ScriptedBackend([answer("swerve_wildly"), answer("evasive_steering_left")])

@@ -19,6 +19,7 @@ from scenariominer.llm.base import system, user
 from scenariominer.llm.client import ChatClient
 from scenariominer.llm.embeddings import Embedder
 from scenariominer.llm.errors import StructuredOutputError
+from scenariominer.llm.text import tidy_cut_text
 
 __all__ = ["Query", "Recommendation", "RecommendSettings", "recommend"]
 
@@ -131,7 +132,11 @@ def recommend(
             f"{len(exc.raw_outputs)} attempt(s): {exc.errors[-1] if exc.errors else exc}"
         ) from exc
     latency = time.perf_counter() - start
-    answer = {k: str(v) for k, v in dict(result.value).items()}
+    # a field the model wrote up to its cap ends at its last full sentence or clause, not mid-word
+    answer = {
+        k: str(v) if k == "manoeuvre" else tidy_cut_text(str(v), settings.max_field_chars)
+        for k, v in dict(result.value).items()
+    }
     return Recommendation(
         event_id=query.event_id,
         manoeuvre=answer["manoeuvre"],

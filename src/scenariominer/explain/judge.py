@@ -33,10 +33,8 @@ from scenariominer.explain.classify import (
 from scenariominer.explain.facts import EventFacts, rules_explanation
 from scenariominer.explain.prompts import judge_messages
 from scenariominer.llm.client import ChatClient
+from scenariominer.llm.text import tidy_cut_text
 from scenariominer.schema import Judge
-
-_SENTENCE_END = re.compile(r"[.;](?=\s|$)")  # not the point of "3.2"
-_CLAUSE_END = re.compile(r",(?=\s)")
 
 #: Longest description (characters) the judgement's schema allows: about 15 words.
 JUDGE_DESCRIPTION_MAX_CHARS = 100
@@ -253,23 +251,6 @@ def ungrounded_numbers(text: str, facts_text: str) -> list[str]:
         if not any(abs(float(token) - k) <= tolerance for k in known):
             out.append(token)
     return out
-
-
-def tidy_cut_text(text: str, max_chars: int) -> str:
-    """A text the schema's length bound cut off, ended at its last full sentence or clause.
-
-    Small models write up to the bound; a cut-off text is trimmed back to its last ``.``/``;``
-    (else its last comma, if that keeps half of it) and marked with ``…``. Texts shorter than the
-    bound are returned unchanged.
-    """
-    text = text.strip()
-    if len(text) < max_chars - 1:
-        return text
-    for pattern, end in ((_SENTENCE_END, "."), (_CLAUSE_END, " …")):
-        cuts = [m.start() for m in pattern.finditer(text)]
-        if cuts and cuts[-1] >= len(text) // 2:
-            return text[: cuts[-1]].rstrip() + end
-    return text.rstrip() + " …"
 
 
 def rejudge_events(
