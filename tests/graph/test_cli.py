@@ -79,3 +79,8 @@ def test_ask_without_a_graph_says_what_to_run(tmp_path: Path) -> None:
     result = runner.invoke(app, ["ask", "any lane change", "--no-answer", *common])
     assert result.exit_code != 0
     assert "graph build" in " ".join(result.output.split())
+    # and `graph build` before any windows says to cut them first, not to run itself
+    result = runner.invoke(app, ["graph", "build", "--no-summaries", *common])
+    assert result.exit_code != 0
+    shown = " ".join(result.output.split())
+    assert "run scenariominer embed windows first" in shown and "graph build" not in shown

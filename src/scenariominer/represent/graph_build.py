@@ -26,6 +26,7 @@ from scenariominer.llm.embeddings import Embedder
 from scenariominer.progress import NullProgress, Progress
 from scenariominer.represent.cluster import latest_clustering, load_labels
 from scenariominer.represent.describe import DescribeSettings, WindowDescription, describe_windows
+from scenariominer.represent.errors import NoWindowsError
 from scenariominer.represent.graph import (
     EMBEDDED_ENTITIES,
     EMBEDDED_RELATIONS,
@@ -37,6 +38,7 @@ from scenariominer.represent.graph import (
     load_graph,
     save_log_graph,
 )
+from scenariominer.represent.graph_store import GraphNotBuiltError
 from scenariominer.represent.model_table import list_models, load_embeddings
 from scenariominer.represent.summaries import SummarySettings, cluster_summaries, community_reports
 from scenariominer.represent.window_table import load_windows, log_window_records
@@ -210,6 +212,10 @@ def build_store_graph(
     clustering = latest_clustering(store, graph_id) if graph_id != "windows" else None
     cid = clustering.clustering_id if clustering else ""
     logs = sorted(lid for lid, rec in records.items() if rec.window_ids)
+    if not logs:  # it said "no graph ...; build it first (scenariominer graph build)", its own command
+        raise NoWindowsError(
+            "no trajectory windows in the store to describe; run scenariominer embed windows first"
+        )
     labels = load_labels(store, cid, logs) if cid else None
     label_of = dict(zip(labels.window_ids.tolist(), labels.labels.tolist(), strict=True)) if labels else {}
     stored = graph_logs(store, graph_id)
@@ -241,6 +247,9 @@ def build_store_graph(
         by_log = _embed_batch(described, embedder, failed)
         bar.advance(len(described))
         save_log_graph(store, graph_id, by_log, embedder.model, wanted)
+    if not graph_logs(store, graph_id):
+        causes = "; ".join(f"{lid}: {why}" for lid, why in failed[:3])
+        raise GraphNotBuiltError(f"no log of the store could be described ({len(failed)} failed: {causes})")
     graph = load_graph(store, graph_id)
     levels = leiden_communities(graph.elements, s.resolutions, s.seed)
     store.corpus(COMMUNITIES_TABLE, _SCHEMA).upsert(
