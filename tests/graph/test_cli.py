@@ -63,6 +63,10 @@ def test_build_ask_and_evaluate_from_the_command_line(tmp_path: Path) -> None:
     assert reply["result"]["llm_status"] == "no model" and reply["result"]["answer"] == ""
     with Image.open(picture) as im:
         assert im.size[1] > im.size[0] / 2  # three stacked panels
+    table = runner.invoke(app, ["ask", "lane change to the left", "-k", "1", "--no-answer", *common]).output
+    first = samples[0]
+    others = [t for t in first["track_ids"] if t != first["agent_id"]]
+    assert f"{len(others)}: {others[0][:8]}" in table  # the count of the others, not every id folded
 
     out = _run("eval", "retrieval", "--k-max", "24", *common)
     # 6 vehicles on a 3-lane carriageway: two-lane queries have no relevant window and are skipped

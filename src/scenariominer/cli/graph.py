@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Annotated
 
 import typer
@@ -77,6 +78,18 @@ def build(
     render_build(report)
 
 
+def _others(track_ids: Sequence[str], agent_id: str, shown: int = 4) -> str:
+    """How many road users share the sample with its agent, and the first ids in short (``--json``: all).
+
+    Six full Argoverse 2 track ids folded into a column made each sample a dozen lines tall.
+    """
+    others = [t for t in track_ids if t != agent_id]
+    if not others:
+        return "0"
+    more = " …" if len(others) > shown else ""
+    return f"{len(others)}: " + " ".join(t[:8] for t in others[:shown]) + more
+
+
 def render_answer(a: AskAnswer) -> None:
     """Print the ranked samples, the answer and its citations."""
     from rich.table import Table
@@ -84,7 +97,7 @@ def render_answer(a: AskAnswer) -> None:
     r = a.result
     out = console()
     table = Table(title=f"samples for: {safe(r.question)} (graph {safe(r.graph_id)})", title_justify="left")
-    for col in ("#", "log", "track", "time [s]", "frames", "cluster", "tracks", "score"):
+    for col in ("#", "log", "track", "time [s]", "frames", "cluster", "road users around", "score"):
         table.add_column(col, overflow="fold")
     for s in r.samples:
         frames = f"{s.start_frame}-{s.end_frame}" if s.start_frame is not None else "-"
@@ -95,7 +108,7 @@ def render_answer(a: AskAnswer) -> None:
             f"{s.start_s:.1f}-{s.end_s:.1f}",
             frames,
             "-" if s.cluster is None else str(s.cluster),
-            safe(" ".join(s.track_ids[:6])),
+            safe(_others(s.track_ids, s.agent_id)),
             f"{s.score:.3f}",
         )
     out.print(table)
