@@ -83,3 +83,16 @@ def test_train_without_windows_says_what_to_run(tiny_store: ScenarioStore) -> No
     result = runner.invoke(app, ["embed", "train", "--store", str(tiny_store.root)])
     assert result.exit_code == 2
     assert "scenariominer embed windows" in " ".join(result.output.split())
+
+
+def test_training_on_too_few_windows_to_cluster_says_so(tiny_store: ScenarioStore, tmp_path: Path) -> None:
+    # a model trained on the 3 windows of three AV2 logs was reported like any other
+    cfg = tmp_path / "few.toml"
+    cfg.write_text(TINY_TOML.replace("min_cluster_size = 4", "min_cluster_size = 40"), encoding="utf-8")
+    common = ("--store", str(tiny_store.root), "--config", str(cfg))
+    _run("embed", "windows", *common, "--log", "cruise-a")
+    out = _run("embed", "train", *common, "--epochs", "1")
+    assert "note: only 36 windows: too few for the model to generalise" in out
+    assert "min_cluster_size (40)" in out
+    cfg.write_text(TINY_TOML, encoding="utf-8")  # 36 windows against 4
+    assert "note:" not in _run("embed", "train", *common, "--epochs", "1")

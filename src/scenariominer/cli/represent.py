@@ -111,6 +111,8 @@ def render_train_report(report: TrainReport) -> None:
         f"loss {s.loss_history[0]:.4f} -> {s.loss_history[-1]:.4f}",
         highlight=False,
     )
+    for note in report.notes:
+        console().print(f"[yellow]note:[/yellow] {safe(note)}", highlight=False, soft_wrap=True)
 
 
 @app.command("train")

@@ -66,11 +66,13 @@ class TrainReport:
         model: the stored model's record.
         summary: losses per epoch, windows, seconds.
         n_logs: logs whose windows were trained on.
+        notes: what the user should know (too few windows to cluster).
     """
 
     model: ModelRecord
     summary: TrainingSummary
     n_logs: int
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -189,7 +191,14 @@ def train_store_embedder(
     save_embeddings(store, model_id, windows.log_ids, windows.window_ids, embedder.transform(windows))
     record, _ = load_model(store, model_id)
     assert embedder.summary_ is not None
-    return TrainReport(record, embedder.summary_, len(logs))
+    notes: tuple[str, ...] = ()
+    if len(windows.window_ids) < config.cluster.min_cluster_size:
+        notes = (
+            f"only {len(windows.window_ids)} windows: too few for the model to generalise, and fewer than "
+            f"represent.cluster.min_cluster_size ({config.cluster.min_cluster_size}), so `embed cluster` "
+            "cannot run; ingest and cut more logs (embed windows), then train again",
+        )
+    return TrainReport(record, embedder.summary_, len(logs), notes)
 
 
 def apply_store_embedder(
