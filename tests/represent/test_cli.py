@@ -77,6 +77,10 @@ def test_similar_names_a_missing_track(tiny_store: ScenarioStore, tmp_path: Path
     result = runner.invoke(app, ["similar", "weave-a", "--track", "nobody", "--t", "3", *common])
     assert result.exit_code == 2
     assert "track 'nobody' is not in log weave-a" in " ".join(result.output.split())
+    for t in ("99", "-1"):
+        result = runner.invoke(app, ["similar", "weave-a", "--track", "ego", "--t", t, *common])
+        assert result.exit_code == 2, result.output
+        assert f"t = {t} s is outside log weave-a, which lasts" in " ".join(result.output.split())
 
 
 def test_train_without_windows_says_what_to_run(tiny_store: ScenarioStore) -> None:

@@ -80,6 +80,8 @@ def _query_window(
                 centre_gap = np.abs(ws.start_s[idx] + 0.5 * ws.length_s[idx] - t_s)
                 return ws.select([int(idx[np.argmin(centre_gap)])])
     log = store.load_log(log_id)
+    if not 0.0 <= t_s <= log.duration_s:  # it was moved silently to the nearest window that fits
+        raise NoWindowsError(f"t = {t_s:g} s is outside log {log_id}, which lasts {log.duration_s:.1f} s")
     length = config.lengths_s[0]
     start = float(np.clip(t_s - 0.5 * length, 0.0, max(0.0, log.duration_s - length)))
     try:
