@@ -58,6 +58,25 @@ def test_a_markup_like_store_path_does_not_crash_info(tmp_path: Path) -> None:
     assert "[/x]" in result.output and "Traceback" not in result.output
 
 
+def test_emoji_codes_in_ids_are_printed_as_typed(tmp_path: Path) -> None:
+    # Rich turned ":id:" of an event id into an emoji ("bad:id:x" was shown as "bad🆔x")
+    store = tmp_path / "a:id:b:smile:"
+    result = runner.invoke(app, ["info", "--store", str(store)])
+    assert result.exit_code == 2, result.output
+    assert "a:id:b:smile:" in " ".join(result.output.split())
+    assert "\U0001f194" not in result.output and "\U0001f604" not in result.output
+
+
+def test_empty_queries_are_usage_errors_not_internal_ones(tmp_path: Path, av2_log_dir: Path) -> None:
+    # `mine ""` listed every track of every log; `search ""` was "internal error: ValueError"
+    result = runner.invoke(app, ["mine", " ", "--logs", str(av2_log_dir)])
+    assert result.exit_code == 2, result.output
+    assert "the description is empty" in " ".join(result.output.split())
+    result = runner.invoke(app, ["search", "", "--store", str(tmp_path / "s")])
+    assert result.exit_code == 2, result.output
+    assert "the text query is empty" in result.output and "internal error" not in result.output
+
+
 def test_a_program_file_that_is_not_utf8_is_a_clear_error(tmp_path: Path, av2_log_dir: Path) -> None:
     prog = tmp_path / "p.py"
     prog.write_bytes(b"output_scenario(\xff\xfe)\n")

@@ -8,7 +8,13 @@ from pathlib import Path
 import pytest
 from braking_builders import record, store_with_events
 
-from scenariominer.explain.search import NoEventsError, SearchQuery, SortKey, search_events
+from scenariominer.explain.search import (
+    InvalidSearchError,
+    NoEventsError,
+    SearchQuery,
+    SortKey,
+    search_events,
+)
 from scenariominer.llm import HashingEmbedder
 from scenariominer.store import EmbeddingMismatchError, ScenarioStore
 
@@ -102,9 +108,22 @@ def test_bad_queries_are_clear_errors(store: ScenarioStore, tmp_path: Path) -> N
         search_events(store, SearchQuery(text="a car"), HashingEmbedder(32))
     with pytest.raises(ValueError, match="embedder"):
         search_events(store, SearchQuery(text="a car"))
-    with pytest.raises(ValueError, match="k must"):
+    with pytest.raises(InvalidSearchError, match="k must"):
         SearchQuery(category="cut_in", k=0)
-    with pytest.raises(ValueError, match="score needs a text"):
+    with pytest.raises(InvalidSearchError, match="score needs a text"):
         SearchQuery(category="cut_in", sort=SortKey.SCORE)
+    # an empty text was a plain ValueError: the command line called it an internal error
+    with pytest.raises(InvalidSearchError, match="the text query is empty"):
+        SearchQuery(text="  ")
     with pytest.raises(NoEventsError, match="analyze"):
         search_events(ScenarioStore.open(tmp_path / "empty"), SearchQuery(category="cut_in"))
+
+
+def test_an_unknown_category_is_an_error_naming_the_stored_ones(store: ScenarioStore) -> None:
+    # a typo ("cut-in") matched nothing and said "0 event(s)"
+    with pytest.raises(
+        InvalidSearchError, match=r"unknown category 'cut-in'.*cut_in, not_relevant, obj_crossing"
+    ):
+        search_events(store, SearchQuery(category="cut-in"), known_categories=("cut_in", "left_oppo"))
+    # a configured category no event has is a plain empty answer
+    assert search_events(store, SearchQuery(category="left_oppo"), known_categories=("left_oppo",)) == []

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 from scenariominer.api._exec import executor_for
 from scenariominer.config import Config
-from scenariominer.explain.categories import load_categories
+from scenariominer.explain.categories import RESERVED_NAMES, load_categories
 from scenariominer.explain.pipeline import AnalyzeReport, analyze_store
 from scenariominer.explain.search import SearchHit, SearchQuery, search_events
 from scenariominer.explain.show import show_event
@@ -106,7 +106,8 @@ def search(store: ScenarioStore, query: SearchQuery, config: Config) -> list[Sea
         EmbeddingMismatchError: the stored vectors come from another embedding model.
     """
     embedder = make_embedder(config) if query.text is not None else None
-    return search_events(store, query, embedder)
+    known = (*load_categories(config.explain.categories_file).names, *RESERVED_NAMES)
+    return search_events(store, query, embedder, known_categories=known)
 
 
 @dataclass(frozen=True)

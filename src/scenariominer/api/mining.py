@@ -74,6 +74,14 @@ class MineRequest:
     align_to: Path | None = None
     force: bool = False
 
+    def __post_init__(self) -> None:
+        if self.program is None and not self.description.strip():
+            # it was read as "any object" and listed every track of every log
+            raise MiningError(
+                "the description is empty: say what to find (e.g. 'pedestrian crossing in front of the "
+                "ego vehicle'), or give a program with --program"
+            )
+
 
 @dataclass(frozen=True)
 class MineResult:

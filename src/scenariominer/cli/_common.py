@@ -83,7 +83,7 @@ def console() -> Console:
     if "out" not in _consoles:
         from rich.console import Console
 
-        _consoles["out"] = Console()
+        _consoles["out"] = Console(emoji=False)  # ":id:" in an id stays text, not 🆔
     _consoles["out"].quiet = settings.quiet  # follows the current command's --quiet
     return _consoles["out"]
 
@@ -93,7 +93,7 @@ def err_console() -> Console:
     if "err" not in _consoles:
         from rich.console import Console
 
-        _consoles["err"] = Console(stderr=True)
+        _consoles["err"] = Console(stderr=True, emoji=False)
     return _consoles["err"]
 
 

@@ -36,7 +36,7 @@ class RichProgress:
             TimeElapsedColumn(),
             TimeRemainingColumn(),
             TextColumn("{task.fields[message]}", markup=False),
-            console=Console(stderr=True),
+            console=Console(stderr=True, emoji=False),
             transient=transient,
         )
         self._task: TaskID | None = None

@@ -12,7 +12,7 @@ Both paths can filter by criticality (``min_decel_mps2``, ``max_ttc_s``) and sor
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,6 +37,7 @@ from scenariominer.store.vectors import load_embeddings
 __all__ = [
     "NoEventsError",
     "SearchHit",
+    "InvalidSearchError",
     "SearchQuery",
     "SortKey",
     "load_events",
@@ -49,6 +50,10 @@ class NoEventsError(_errors.ExplainError, LookupError):
 
     def __init__(self, root: str) -> None:
         super().__init__(f"store {root} holds no analysed braking events; run `scenariominer analyze` first")
+
+
+class InvalidSearchError(_errors.ExplainError, ValueError):
+    """A search that cannot mean anything: an empty text, ``k`` below 1, an unknown category."""
 
 
 @dataclass(frozen=True)
@@ -75,11 +80,11 @@ class SearchQuery:
 
     def __post_init__(self) -> None:
         if self.k < 1:
-            raise ValueError(f"k must be at least 1, got {self.k}")
+            raise InvalidSearchError(f"k must be at least 1, got {self.k}")
         if self.text is not None and not self.text.strip():
-            raise ValueError("the text query is empty")
+            raise InvalidSearchError("the text query is empty: describe the scenario, or leave it out")
         if self.text is None and self.sort is SortKey.SCORE:
-            raise ValueError("sorting by score needs a text query")
+            raise InvalidSearchError("sorting by score needs a text query")
 
 
 @dataclass(frozen=True)
@@ -158,6 +163,7 @@ def search_events(
     query: SearchQuery,
     embedder: Embedder | None = None,
     log_ids: Sequence[str] | None = None,
+    known_categories: Collection[str] | None = None,
 ) -> list[SearchHit]:
     """Retrieve events by category and/or free text, filtered and sorted by criticality.
 
@@ -166,16 +172,27 @@ def search_events(
         query: what to look for.
         embedder: embeds ``query.text``; must be the model the descriptions were embedded with.
         log_ids: restrict the search to these logs.
+        known_categories: the configured category names; a ``query.category`` that is neither one
+            of them nor on a stored event is an error (a typo matched nothing without a word).
+            ``None`` checks nothing.
 
     Returns:
         At most ``query.k`` hits.
 
     Raises:
         NoEventsError: the store holds no analysed events.
+        InvalidSearchError: an unknown category.
         ValueError: a text query without an embedder.
         EmbeddingMismatchError: the stored vectors come from another model or dimension.
     """
-    table = _filter(load_events(store, log_ids), query)
+    events = load_events(store, log_ids)
+    if query.category is not None and known_categories is not None:
+        stored = set(events.column("category").to_pylist())
+        if query.category not in stored and query.category not in set(known_categories):
+            raise InvalidSearchError(
+                f"unknown category {query.category!r}; the events' categories: {', '.join(sorted(stored))}"
+            )
+    table = _filter(events, query)
     records = records_from_table(table)
     scores = np.full(len(records), np.nan)
     if query.text is not None:

@@ -215,4 +215,4 @@ def print_usage(report: UsageReport, console: Console | None = None) -> None:
         return
     from rich.console import Console
 
-    (console or Console(stderr=True)).print(report.to_table())
+    (console or Console(stderr=True, emoji=False)).print(report.to_table())
