@@ -240,23 +240,14 @@ def _smooth_full_window(
     head_cells = starts[:, None] + np.arange(half)[None, :]
     tail_cells = stops[:, None] - half + np.arange(half)[None, :]
 
-    def apply(values: FloatArray, derivs: tuple[int, ...]) -> FloatArray:
-        """Derivatives ``derivs`` of the owner rows ``(R, T)``, one pass over the windows: ``(D, R, T)``.
-
-        Values outside the long spans are garbage.
-        """
-        weights = [_sg_weights(w, order, deriv, dt_s) for deriv in derivs]
-        centre = np.stack([c for c, _, _ in weights], axis=1)  # (w, D)
-        left = np.stack([e for _, e, _ in weights])  # (D, half, w)
-        right = np.stack([e for _, _, e in weights])
-        result = np.zeros((len(derivs), *values.shape))
-        windows = np.lib.stride_tricks.sliding_window_view(values, w, axis=1)  # (R, T - 2 half, w)
-        result[:, :, half : t - half] = np.moveaxis(windows @ centre, -1, 0)
+    def apply(values: FloatArray, deriv: int) -> FloatArray:
+        """The filtered ``(R, T)`` values of the owner rows (garbage outside the long spans)."""
+        centre, left, right = _sg_weights(w, order, deriv, dt_s)
+        result = np.zeros_like(values)
+        result[:, half : t - half] = np.lib.stride_tricks.sliding_window_view(values, w, axis=1) @ centre
         full_rows = values[local]
-        firsts = np.take_along_axis(full_rows, head, axis=1)  # (S, w)
-        lasts = np.take_along_axis(full_rows, tail, axis=1)
-        result[:, local[:, None], head_cells] = np.einsum("sw,dhw->dsh", firsts, left)
-        result[:, local[:, None], tail_cells] = np.einsum("sw,dhw->dsh", lasts, right)
+        result[local[:, None], head_cells] = np.take_along_axis(full_rows, head, axis=1) @ left.T
+        result[local[:, None], tail_cells] = np.take_along_axis(full_rows, tail, axis=1) @ right.T
         return result
 
     span_mask = inner.copy()
@@ -265,19 +256,19 @@ def _smooth_full_window(
     targets = [(log.x_m, out.x, out.vx, out.ax), (log.y_m, out.y, out.vy, out.ay)]
     for src, pos, vel, acc in targets:
         values = np.nan_to_num(src[owners], nan=0.0, posinf=0.0, neginf=0.0)
+        _put(pos, owners, span_mask, apply(values, 0))
+        _put(vel, owners, span_mask, apply(values, 1))
         if order >= 2:
-            filtered, v, a = apply(values, (0, 1, 2))
+            _put(acc, owners, span_mask, apply(values, 2))
         else:  # a first-order fit has no second derivative: difference the velocity within each span
-            filtered, v = apply(values, (0, 1))
+            v = apply(values, 1)
             a = np.gradient(v, dt_s, axis=1)
             last = stops - 1
             a[local, starts] = (v[local, starts + 1] - v[local, starts]) / dt_s
             a[local, last] = (v[local, last] - v[local, last - 1]) / dt_s
-        _put(pos, owners, span_mask, filtered)
-        _put(vel, owners, span_mask, v)
-        _put(acc, owners, span_mask, a)
+            _put(acc, owners, span_mask, a)
     if cfg.smooth_yaw:
-        _put(out.yaw, owners, span_mask, wrap_angle(apply(_unwrap_rows(log.yaw_rad[owners]), (0,))[0]))
+        _put(out.yaw, owners, span_mask, wrap_angle(apply(_unwrap_rows(log.yaw_rad[owners]), 0)))
 
 
 def _unwrap_rows(yaw_rad: FloatArray) -> FloatArray:
