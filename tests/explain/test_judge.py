@@ -98,6 +98,13 @@ def test_rules_judge_needs_no_model_and_states_the_facts() -> None:
         judge_event(ChatClient(ScriptedBackend([])), _facts(), [], CATS, Judge.RULES)
 
 
+def test_rules_only_without_a_rule_says_none_holds_rather_than_not_relevant() -> None:
+    # a pedestrian crossing 7 m ahead with the ego braking at 5 m/s² read "Not relevant: ..."
+    out = rules_only([], CATS, _facts(pedestrian=True))
+    assert out.category == "not_relevant"
+    assert out.explanation.startswith("No category's rule holds: a pedestrian ahead of the ego")
+
+
 def test_rules_explanation_of_a_standing_ego_says_so() -> None:
     # KeyIdent's events include frames where the ego stands, held by the guest (ego at 0.2 km/h)
     text = rules_explanation("right_ped", dataclasses.replace(_facts(pedestrian=True), ego_speed_kmh=0.2))

@@ -88,10 +88,15 @@ def _answer_model(allowed: Sequence[str]) -> type[BaseModel]:
 def rules_only(candidates: Sequence[str], categories: CategorySet, facts: EventFacts) -> Classification:
     """The rules' category with an explanation written from the facts (no model)."""
     (category,) = allowed_categories(Judge.RULES, candidates, categories)
+    explanation = rules_explanation(category, facts)
+    if category == NOT_RELEVANT:
+        # the rules cannot tell "relevant, but no category fits" from "not why the ego brakes":
+        # "Not relevant: a pedestrian ahead ... brakes at up to 5.0 m/s²" read as a verdict
+        explanation = "No category's rule holds" + explanation.removeprefix("Not relevant")
     return Classification(
         category=category,
         description="",
-        explanation=rules_explanation(category, facts),
+        explanation=explanation,
         status=ClassificationStatus.RULES,
     )
 
