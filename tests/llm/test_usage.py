@@ -29,6 +29,26 @@ def test_counter_aggregates_per_backend_and_model_and_renders():
     assert "total" in text and "4.5" in text
 
 
+def test_rows_stay_one_line_each_on_an_80_column_terminal():
+    # a long model name in the first column folded each row into four lines
+    usage = UsageCounter()
+    name = "qwen2.5-coder-1.5b-instruct-q4_k_m"
+    usage.record_chat("llamacpp", name, Completion("a", 219, 14, 11.8))
+    usage.record_chat("openai", "other-model", Completion("a", 10, 1, 0.5))
+    usage.record_embedding("sentence-transformers", "all-MiniLM-L6-v2", texts=16, cache_hits=3, calls=4,
+                           latency_s=11.8)  # fmt: skip
+    console = Console(record=True, width=80)
+    print_usage(usage.report(), console)
+    lines = console.export_text().splitlines()
+    rows = [line for line in lines if line.startswith("│")]
+    assert [r.split("│")[1].strip() for r in rows] == ["chat 1", "chat 2", "embedding", "total"]
+    legend = " ".join(" ".join(lines).split())
+    assert (
+        f"chat 1: {name} (llamacpp)" in legend
+        and "embedding: all-MiniLM-L6-v2 (sentence-transformers)" in legend
+    )
+
+
 def test_empty_report_prints_nothing():
     console = Console(record=True)
     print_usage(UsageCounter().report(), console)

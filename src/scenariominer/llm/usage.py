@@ -96,12 +96,19 @@ class UsageReport:
         from rich.table import Table
 
         table = Table(title="Model usage", title_justify="left", caption_justify="left")
-        table.add_column("model", overflow="fold", ratio=1)  # long identities wrap, numbers never
+        table.add_column("model", no_wrap=True)
         for name in ("req", "calls", "hits", "fails", "prompt tok", "gen tok", "s"):
             table.add_column(name, justify="right", no_wrap=True)
-        for r in self.rows:
+        # short row labels, the models named below the table: a long model name folded into a
+        # narrow first column made each row four lines tall on an 80-column terminal
+        labels = _row_labels([r.kind.value for r in self.rows])
+        legend = [
+            f"{label}: {r.model.split('@')[0]} ({r.backend})"  # the file hash is in the cache key
+            for label, r in zip(labels, self.rows, strict=True)
+        ]
+        for label, r in zip(labels, self.rows, strict=True):
             table.add_row(
-                f"{r.kind.value}: {r.model.split('@')[0]} ({r.backend})",  # the file hash is in the cache key
+                label,
                 str(r.requests),
                 str(r.calls),
                 str(r.cache_hits),
@@ -122,8 +129,15 @@ class UsageReport:
                 f"{self.latency_s:.1f}",
                 style="bold",
             )
-        table.caption = "req: requests; calls: backend calls made; hits: answered from the cache"
+        table.caption = "; ".join(
+            [*legend, "req: requests; calls: backend calls made; hits: answered from the cache"]
+        )
         return table
+
+
+def _row_labels(kinds: list[str]) -> list[str]:
+    """``chat``, ``embedding``; ``chat 1``, ``chat 2`` where one kind has several rows."""
+    return [k if kinds.count(k) == 1 else f"{k} {kinds[: i + 1].count(k)}" for i, k in enumerate(kinds)]
 
 
 class UsageCounter:
