@@ -157,3 +157,14 @@ def test_a_closed_output_pipe_is_no_internal_error() -> None:
     result = runner.invoke(demo, ["write"])
     assert result.exit_code == 1
     assert "internal error" not in result.output + result.stderr
+
+
+def test_a_program_that_cannot_run_is_refused_once_before_any_log(tmp_path: Path, av2_log_dir: Path) -> None:
+    # it was run on each log, failed on each with the same syntax error, and printed "status ok"
+    prog = tmp_path / "p.py"
+    prog.write_text("v = get_objects_of_category(log_dir, category='VEHICLE'\n", encoding="utf-8")
+    result = runner.invoke(app, ["mine", "x", "--logs", str(av2_log_dir), "--program", str(prog)])
+    assert result.exit_code == 2, result.output
+    shown = " ".join(result.output.split())
+    assert shown.count("'(' was never closed") == 1 and "the program was not run" in shown
+    assert "status ok" not in shown

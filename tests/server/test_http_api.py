@@ -184,8 +184,8 @@ def test_a_program_escaping_the_sandbox_fails_that_job_only(client: httpx.Client
     program = f"import os\nos.system('touch {marker}')\n"
     job = client.post("/api/jobs/mine", json={"description": "escape", "program": program}).json()
     final = _events(client, job["id"])[-1][1]
-    assert final["state"] == "succeeded"  # the query ran; the program was refused on every log
-    assert final["result"]["failures"] and not final["result"]["referred_objects"]
+    assert final["state"] == "failed"  # refused by the sandbox's checks before any log, once
+    assert "the program was not run" in final["error"] and "import" in final["error"]
     assert not marker.exists()
     assert client.get("/api/health").json() == {"status": "ok"}
 

@@ -109,11 +109,18 @@ def mine(
     store, and the CLIP-filtered path, run in this process.
 
     Raises:
-        MiningError: no logs to mine; a bank, camera-frame or export problem.
+        MiningError: no logs to mine; a given program that does not pass the sandbox's checks
+            (syntax, forbidden constructs, argument kinds); a bank, camera-frame or export problem.
         DataError, StoreError, LLMError: unreadable logs, store or model problems.
     """
     from scenariominer.mine.export import read_av2_submission, write_av2_submission
+    from scenariominer.mine.sandbox.check import check_program
 
+    if request.program is not None:
+        # a program that cannot run anywhere failed once per log with the same message
+        problem = check_program(request.program, config.mining.sandbox)
+        if problem is not None:
+            raise MiningError(f"the program was not run: {problem.feedback()}")
     store = request.store
     with executor_for(config, executor) as runner:
         if store is not None and request.camera_frames is None:
