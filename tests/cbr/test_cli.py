@@ -61,6 +61,9 @@ def test_add_list_show_remove_and_duplicates(tmp_path: Path, env: dict[str, str]
     assert r.exit_code == 0 and "removed 1 of 1" in r.output
     r = runner.invoke(app, ["cbr", "show", "k2"], env=env)
     assert r.exit_code == 2 and "no case 'k2'" in r.output
+    runner.invoke(app, ["cbr", "remove", "k1"], env=env)
+    r = runner.invoke(app, ["cbr", "list"], env=env)
+    assert "0 case(s)" in r.output and "scenariominer cbr build" in r.output  # says how to fill it
 
 
 def test_build_writes_balanced_case_base_and_disjoint_holdout(env: dict[str, str]) -> None:

@@ -97,6 +97,8 @@ def list_cases(
         return
     out = console()
     out.print(f"{len(cases)} case(s)")
+    if not cases and risk_type is None:
+        out.print("the case base is empty: `scenariominer cbr build` makes one, `cbr add` adds cases")
     for c in cases:
         cap = c.caption if len(c.caption) <= 90 else c.caption[:87] + "..."
         out.print(
