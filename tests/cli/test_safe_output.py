@@ -167,4 +167,4 @@ def test_a_program_that_cannot_run_is_refused_once_before_any_log(tmp_path: Path
     assert result.exit_code == 2, result.output
     shown = " ".join(result.output.split())
     assert shown.count("'(' was never closed") == 1 and "the program was not run" in shown
-    assert "status ok" not in shown
+    assert "program ok" not in shown

@@ -390,7 +390,7 @@ def test_mine_command_exports_the_shared_log_aligned_to_the_ground_truth(
         ],
     )
     assert res.exit_code == 0, res.output
-    assert "status ok (bank, no model call)" in res.output and f"wrote {out}" in res.output
+    assert "program ok (bank, no model call)" in res.output and f"wrote {out}" in res.output
     pred = read_av2_submission(out)
     gt = read_av2_submission(av2_gt_pkl)
     assert list(pred) == list(gt)

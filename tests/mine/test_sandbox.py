@@ -283,7 +283,7 @@ def test_mine_runs_a_refav_program_file(tmp_path: Path, av2_log_dir: Path) -> No
         ["mine", "vehicle with a bicycle on its right", "--logs", str(av2_log_dir), "--program", str(prog)],
     )
     assert res.exit_code == 0, res.output
-    assert "status ok (given" in res.output and "1 log(s) match, 0 failed" in res.output
+    assert "program ok (given" in res.output and "1 log(s) match, 0 failed" in res.output
 
 
 def test_programs_may_use_loops_containers_and_constants(ctx: LogContext) -> None:

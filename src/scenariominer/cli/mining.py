@@ -122,7 +122,7 @@ def render_query(report: QueryReport) -> None:
         )
     s = report.summary()
     out.print(
-        f"status {s['status']} ({s['source']}, {_attempts(int(s['attempts_used']))}); "
+        f"program {s['status']} ({s['source']}, {_attempts(int(s['attempts_used']))}); "
         f"generation {s['generation_s']:.1f} s, execution {s['execution_s']:.2f} s over {s['n_logs']}"
         f" log(s); {s['n_matching_logs']} log(s) match, {s['n_failed_logs']} failed",
         soft_wrap=True,
