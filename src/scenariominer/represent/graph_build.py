@@ -247,10 +247,13 @@ def build_store_graph(
         by_log = _embed_batch(described, embedder, failed)
         bar.advance(len(described))
         save_log_graph(store, graph_id, by_log, embedder.model, wanted)
-    if not graph_logs(store, graph_id):
+    try:
+        graph = load_graph(store, graph_id)
+    except GraphNotBuiltError:  # every log failed: its own message would say to run graph build
         causes = "; ".join(f"{lid}: {why}" for lid, why in failed[:3])
-        raise GraphNotBuiltError(f"no log of the store could be described ({len(failed)} failed: {causes})")
-    graph = load_graph(store, graph_id)
+        raise GraphNotBuiltError(
+            f"no log of the store could be described ({len(failed)} failed: {causes})"
+        ) from None
     levels = leiden_communities(graph.elements, s.resolutions, s.seed)
     store.corpus(COMMUNITIES_TABLE, _SCHEMA).upsert(
         {
