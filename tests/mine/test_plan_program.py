@@ -118,6 +118,20 @@ def test_the_subjects_words_decide_its_categories_as_the_phrase_rules_read_them(
             "'tram' is not one of the planned objects",
         ),
         ({"error": "no valid answer"}, "no plan"),
+        # a composite condition takes exactly its numbers and cannot be negated
+        (_plan("VEHICLE", conditions=[_cond("lateral_acceleration_either_way")]), "needs accel"),
+        (
+            _plan("VEHICLE", conditions=[_cond("lateral_acceleration_either_way", "speed=2")]),
+            "'speed=2' is not one of its settings",
+        ),
+        (
+            _plan("VEHICLE", conditions=[_cond("lateral_acceleration_either_way", "accel=-2")]),
+            "'accel=-2' is not one of its settings",
+        ),
+        (
+            _plan("VEHICLE", conditions=[{**_cond("stopped"), "negated": True}]),
+            "'stopped' cannot be negated",
+        ),
     ],
 )
 def test_a_plan_the_rules_cannot_express_names_the_part_at_fault(plan: dict[str, Any], message: str) -> None:

@@ -78,6 +78,28 @@ def _referred(description: str) -> set[str]:
         ("the ego vehicle between two vehicles", set()),
         ("vehicles in the same lane as the ego car", {"lead", "changer"}),
         ("vehicles on the other side of the road from the ego", {"oncoming", "parked"}),
+        # session 16: phrases of the spent `fresh` split's partial readings, and their kin
+        ("vehicles ahead of the ego vehicle in the same lane", {"lead"}),  # overtaker: lane 2
+        ("vehicles in the same lane", {"lead", "changer"}),  # as the ego, none other being named
+        ("the ego vehicle with a car directly ahead of it within 20 m", {"ego"}),  # lead at 15 m
+        ("cars on the left side of the ego vehicle within 5 m", {"overtaker"}),  # 3.6 m to its left
+        ("buses with an acceleration of more than 1 m/s^2", {"bus"}),  # 1.5 m/s^2
+        ("buses accelerating harder than 2 m/s^2", set()),
+        ("cars braking harder than 1 m/s^2", set()),  # nobody brakes
+        # the turner's 10 m-radius right turn at 5 m/s is 2.5 m/s^2 to its right; the lane change
+        # peaks at 4.4 m/s^2, first to the left then to the right
+        ("vehicles with a lateral acceleration above 2 m/s^2 either way", {"turner", "changer"}),
+        ("cars with a lateral acceleration above 2 m/s^2 to the left", {"changer"}),
+        ("cars with a lateral acceleration above 2 m/s^2 to the right", {"turner", "changer"}),
+        ("pedestrians walking in front of a car", {"ped"}),  # crosses 2.75 m ahead of the lead
+        ("cars moving between 11 and 13 m/s", {"oncoming"}),  # 12 m/s; overtaker 15, lead 10
+        ("cars at speeds above 40 km/h", {"oncoming", "overtaker"}),  # 11.1 m/s
+        # swerving: 2 m/s^2 sideways, not while turning (the turner's 2.5 m/s^2 is its turn)
+        ("vehicles swerving sideways", {"changer"}),
+        ("cars swerving left", {"changer"}),
+        # at rest, parked included; "waiting" is momentarily stopped, not parked
+        ("objects standing still on the road", {"parked"}),
+        ("vehicles waiting at a standstill", set()),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -87,7 +109,7 @@ def test_a_read_description_finds_the_objects_it_describes(description: str, exp
 @pytest.mark.parametrize(
     "description",
     [
-        "vehicles swerving sideways",  # "swerving" is no known phrase
+        "vehicles zigzagging",  # "zigzagging" is no known phrase
         "a bus overtaking a truck in the rain",
         # a relative clause after another road user may describe that one, not the subject
         "pedestrian in front of a bicyclist who is to the left of a vehicle",
@@ -149,6 +171,23 @@ def test_stated_numbers_are_read_with_their_units() -> None:
     assert "max_velocity=4.47" in _program("cars travelling slower than 10 mph")
     program = _program("vehicles surrounded by three or more people within 5 meters")
     assert "near_objects(subject, related_1, log_dir, distance_thresh=5, min_objects=3)" in program
+
+
+def test_a_stated_number_wins_and_a_phrase_without_one_takes_the_predicates_default() -> None:
+    program = _program("cars waiting at a stop sign")
+    assert "at_stop_sign(subject, log_dir)" in program
+    assert "has_velocity(step_1, log_dir, min_velocity=0, max_velocity=0.5)" in program
+    assert "heading_toward(subject, related_1, log_dir)\n" in _program(
+        "pedestrians moving toward the ego vehicle"
+    )
+    assert "max_distance=30" in _program("vehicles approaching the ego vehicle")  # "approaching": nearby
+    program = _program("buses with 2 cars within 20 m behind them")
+    assert "direction='backward', within_distance=20, lateral_thresh=1, min_number=2" in program
+    assert "near_objects" in _program("buses with 2 cars within 20 m")
+    assert "in_drivable_area(subject, log_dir)" in _program("cones placed on the drivable surface")
+    assert "accelerating(subject, log_dir, min_accel=-inf, max_accel=-2.5)" in _program(
+        "trucks with a deceleration above 2.5 m/s^2"
+    )
 
 
 def test_negated_places_and_motions_are_wrapped_in_scenario_not() -> None:
@@ -233,7 +272,7 @@ def test_with_the_rules_off_or_an_unknown_word_the_model_reads_the_description()
     )
     for description, rules, partial in (
         ("vehicles changing lanes to the left", False, True),
-        ("vehicles swerving sideways", True, False),
+        ("vehicles zigzagging", True, False),
         ("a zeppelin hovering over vehicles", True, True),  # the subject is not read: no partial plan
     ):
         synth, backend = _synth([plan, program], plan_rules=rules, plan_partial=partial)
@@ -305,10 +344,10 @@ def test_a_partial_reading_keeps_the_known_phrases_and_lists_the_words_left_out(
 
 def test_the_loop_mines_a_partly_read_description_without_any_model_call() -> None:
     synth, backend = _synth([])
-    description = "cars swerving wildly"
+    description = "cars zigzagging wildly"
     report = generate_program(description, synth, [SCENE], config=MiningConfig(), runner=_trusted)
     assert report.ok and backend.requests == []
-    assert report.plan is not None and report.plan["unread"] == ["swerving", "wildly"]
+    assert report.plan is not None and report.plan["unread"] == ["zigzagging", "wildly"]
     result = run_trusted_program(report.program or "", SCENE, description=description)
     assert result.ok and result.scenario is not None
     categories = {SCENE.log.categories[idx(SCENE, t)] for t in SCENE.log.track_ids}
@@ -383,7 +422,7 @@ def _referred_partly(description: str) -> set[str]:
     return {names[int(i)] for i in result.scenario.referred_tracks}
 
 
-def test_stopped_takes_parked_objects_too_but_standing_still_does_not() -> None:
+def test_stopped_and_standing_still_take_parked_objects_too_but_waiting_does_not() -> None:
     t = T_S
     # "halting" drives at 8 m/s for 2 s, then stands; "parked" never moves; "driving" never stops
     x_halting = np.minimum(8 * t, 16.0)
@@ -407,7 +446,8 @@ def test_stopped_takes_parked_objects_too_but_standing_still_does_not() -> None:
         return {scene.log.track_ids[int(i)] for i in result.scenario.referred_tracks}
 
     assert referred("stopped cars") == {"halting", "parked"}  # the Argoverse 2 ground truth's sense
-    assert referred("cars standing still") == {"halting"}  # momentarily, as has_velocity reads it
+    assert referred("cars standing still") == {"halting", "parked"}  # at rest, as "stopped"
+    assert referred("cars waiting at a standstill") == {"halting"}  # momentarily, as has_velocity reads it
     assert referred("parked cars") == {"parked"}
     # a condition read twice is applied once
     plan = read_plan("cars that are stopped or nearly stopped", partial=True)
@@ -430,10 +470,10 @@ def test_mine_says_when_a_description_was_read_in_part(tmp_path: Path, av2_log_d
 
     from scenariominer.cli import app
 
-    args = ["mine", "cars swerving wildly", "--logs", str(av2_log_dir), "--no-bank"]
+    args = ["mine", "cars zigzagging wildly", "--logs", str(av2_log_dir), "--no-bank"]
     result = CliRunner().invoke(app, [*args, "--store", str(tmp_path / "st")])
     assert result.exit_code == 0, result.output
-    assert "not read (left out, check the result): swerving wildly" in result.output
+    assert "not read (left out, check the result): zigzagging wildly" in result.output
     assert "read in part: 2 word(s)" in result.output
     assert "category='REGULAR_VEHICLE'" in result.output  # the program of what was read
 

@@ -46,7 +46,7 @@ from scenariominer.mine.plan_reader import one_or_many, subject_categories
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/6"
+PLAN_PROGRAM_VERSION = "plan-program/7"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -78,9 +78,13 @@ _STATE_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
 #: object set). "stopped": at rest at the timestamp, parked objects included, as the Argoverse 2
 #: scenario-mining ground truth of "stopped car" has it (``has_velocity`` alone leaves out the
 #: objects that never move, ``stationary`` alone the momentarily stopped ones).
+#: A composite may take numbers (``{accel}``), given as the condition's ``argument`` ("accel=2");
+#: "a lateral acceleration above 2 m/s^2 either way" is 2 m/s^2 or more toward the left or the right.
 COMPOSITE_CONDITIONS: dict[str, str] = {
     "stopped": "scenario_or([stationary({t}, log_dir), "
     "has_velocity({t}, log_dir, min_velocity=0, max_velocity=0.5)])",
+    "lateral_acceleration_either_way": "scenario_or([has_lateral_acceleration({t}, log_dir, "
+    "min_accel={accel}), has_lateral_acceleration({t}, log_dir, max_accel=-{accel})])",
 }
 
 
@@ -361,15 +365,36 @@ def _condition_call(cond: Mapping[str, Any], target: str, notes: list[str]) -> s
 
     name = str(cond.get("function", ""))
     if name in COMPOSITE_CONDITIONS:
-        if cond.get("negated") or cond.get("argument"):
-            raise PlanCompileError(f"condition {name!r} takes no settings and cannot be negated")
-        return COMPOSITE_CONDITIONS[name].format(t=target)
+        return _composite_call(name, cond, target)
     func = DSL_FUNCTIONS.get(name)
     if func is None:
         raise PlanCompileError(f"condition {name!r} is not a mining function")
     kwargs = _kwargs_text(_settings(name, func, cond.get("argument"), notes))
     call = f"scenario_not({name})" if cond.get("negated") else name
     return f"{call}({target}, log_dir{kwargs})"
+
+
+def _composite_call(name: str, cond: Mapping[str, Any], target: str) -> str:
+    """The expression of a :data:`COMPOSITE_CONDITIONS` condition on ``target``.
+
+    Raises:
+        PlanCompileError: it is negated, or its numbers are missing, extra or not numbers.
+    """
+    template = COMPOSITE_CONDITIONS[name]
+    wanted = set(re.findall(r"\{(\w+)\}", template)) - {"t"}
+    values: dict[str, float] = {}
+    for piece in str(cond.get("argument") or "").split(","):
+        if (match := _SETTING.match(piece)) is not None:
+            value = _literal(match.group(2))
+            if match.group(1) not in wanted or not isinstance(value, int | float) or value < 0:
+                raise PlanCompileError(f"condition {name!r}: {piece.strip()!r} is not one of its settings")
+            values[match.group(1)] = value
+        elif piece.strip():
+            raise PlanCompileError(f"condition {name!r}: {piece.strip()!r} is not one of its settings")
+    if cond.get("negated") or wanted - values.keys():
+        missing = ", ".join(sorted(wanted - values.keys())) or "no setting"
+        raise PlanCompileError(f"condition {name!r} cannot be negated and needs {missing}")
+    return template.format(t=target, **values)
 
 
 def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str]:

@@ -16,10 +16,11 @@ as it reads the subject: the plan of the phrases it knows, with the other words 
 not read in full, such a partial plan agreed with the reference far better than the 1.5B model's
 plan (docs/mining.md), so the mining loop prefers it (``mining.generation.plan_partial``).
 
-The tables map English phrasing to the predicates, with the settings the predicates' docstrings
-and the evaluation set's dev part use for each phrase (``scenariominer.eval.nl2prog``). They were
-written from the dev split, the example bank and (from ``plan-reader/3``) the 152 published RefAV
-descriptions outside the ``published`` sample; the ``holdout`` and ``published`` splits score them.
+The tables (:mod:`scenariominer.mine.plan_phrases`) map English phrasing to the predicates, with
+the settings the predicates' docstrings and the evaluation set's dev part use for each phrase
+(``scenariominer.eval.nl2prog``). They were written from the dev split, the example bank, (from
+``plan-reader/3``) the 152 published RefAV descriptions outside the ``published`` sample and (from
+``plan-reader/8``) the spent held-out splits' partial readings; each new hold-out scores them once.
 Units are converted (km/h, mph, "meters per second" to m/s).
 """
 
@@ -29,89 +30,24 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
+from scenariominer.mine.plan_phrases import (
+    CATEGORY_PHRASES,
+    COUNT_KEYWORD,
+    EGO,
+    FILLERS,
+    LAST,
+    MODIFIERS,
+    ORDINALS,
+    PHRASES,
+    TO_MPS,
+    WORD_NUMBERS,
+    Phrase,
+)
+
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/7"
-
-#: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
-_CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
-    (r"(?:the )?ego(?: vehicle| car)?|(?:the )?self[- ]driving (?:car|vehicle)", ("EGO_VEHICLE",)),
-    (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
-    (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
-    (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
-    (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
-    (r"scooter riders?|wheeled riders?", ("WHEELED_RIDER",)),
-    (r"(?:bi)?cyclists?|(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),
-    (r"motorcycles?|motorbikes?", ("MOTORCYCLE",)),
-    (r"school bus(?:es)?", ("SCHOOL_BUS",)),
-    (r"articulated bus(?:es)?|bendy bus(?:es)?", ("ARTICULATED_BUS",)),
-    (r"city bus(?:es)?", ("BUS",)),
-    (r"bus(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
-    (r"box trucks?|delivery trucks?", ("BOX_TRUCK",)),
-    (r"truck cabs?|semi[- ]trucks?|tractor units?", ("TRUCK_CAB",)),
-    (r"trucks?|lorr(?:y|ies)", ("TRUCK", "BOX_TRUCK", "TRUCK_CAB")),
-    (r"(?:large|big|heavy) vehicles?", ("LARGE_VEHICLE",)),
-    (r"(?:vehicular )?trailers?", ("VEHICULAR_TRAILER",)),
-    (r"trams?|streetcars?|trains?|trolleys?|railed vehicles?", ("RAILED_VEHICLE",)),
-    (r"cars?|sedans?|suvs?|vans?|pickups?|passenger vehicles?|regular vehicles?", ("REGULAR_VEHICLE",)),
-    (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
-    (r"(?:motor )?vehicles?", ("VEHICLE",)),
-    (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
-    (
-        r"(?:people|persons?|pedestrians?) in (?:a )?wheelchairs?|wheelchair users?|wheelchairs?",
-        ("WHEELCHAIR",),
-    ),
-    (r"strollers?|prams?|pushchairs?", ("STROLLER",)),
-    (r"pedestrians?|people|persons?|someone|somebody|peds?|walkers?", ("PEDESTRIAN",)),
-    (r"dogs?", ("DOG",)),
-    (r"animals?", ("ANIMAL", "DOG")),
-    (r"bollards?", ("BOLLARD",)),
-    (r"(?:traffic |construction )?cones?", ("CONSTRUCTION_CONE",)),
-    (r"(?:construction )?barrels?", ("CONSTRUCTION_BARREL",)),
-    (r"stop signs?", ("STOP_SIGN",)),
-    (r"signs?", ("SIGN",)),
-    (r"objects?|things?|anything|everything|road users?|actors?|agents?", ("ANY",)),
-    # last: "traffic" begins other road users' names ("traffic cone", "traffic officer")
-    (r"traffic", ("VEHICLE",)),
-)
-
-#: A speed condition for "moving" and for the riding/walking verbs (the predicate's default).
-_MOVING = ("has_velocity", "min_velocity=0.5")
-_STOPPED = ("has_velocity", "min_velocity=0, max_velocity=0.5")
-#: "stopped": at rest at the timestamp, parked objects included (the Argoverse 2 scenario-mining
-#: ground truth of "stopped car" refers to the parked cars too); compiled by
-#: :mod:`scenariominer.mine.plan_program` as ``stationary`` or ``has_velocity(<= 0.5 m/s)``.
-_STOPPED_OR_PARKED = ("stopped", None)
-
-#: Adjectives before a road user: (pattern, condition function, argument).
-_MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
-    (r"moving", *_MOVING),
-    (r"parked|stationary", "stationary", None),
-    (r"active|non-stationary", "not stationary", None),
-    (r"jaywalking", "jaywalking", None),
-    (r"stopped|halted", *_STOPPED_OR_PARKED),
-    (r"fast|speeding|fast-moving", "has_velocity", "min_velocity=10"),
-    (r"turning", "turning", None),
-    (r"accelerating", "accelerating", "min_accel=1.0"),
-    (r"braking|decelerating", "accelerating", "min_accel=-inf, max_accel=-1.0"),
-)
-
-_WORD_NUMBERS = {
-    "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6", "seven": "7",
-    "eight": "8", "nine": "9", "ten": "10", "twenty": "20", "thirty": "30", "fifty": "50",
-}  # fmt: skip
-_ORDINALS = {"first": "1", "second": "2", "third": "3", "fourth": "4", "fifth": "5"}
-_TO_MPS = {
-    "meters per second": 1.0, "metres per second": 1.0, "m/s": 1.0, "mps": 1.0,
-    "kilometers per hour": 1 / 3.6, "kilometres per hour": 1 / 3.6, "km/h": 1 / 3.6, "kph": 1 / 3.6,
-    "kmh": 1 / 3.6, "miles per hour": 0.44704, "mph": 0.44704,
-}  # fmt: skip
-#: Words that carry no condition of their own.
-_FILLERS = frozenset(
-    {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
-    | {"while", "also", "currently", "there", "driving", "standing"}
-)
+PLAN_READER_VERSION = "plan-reader/8"
 
 
 @dataclass
@@ -177,6 +113,11 @@ class _Reading:
 _COMPOUND: dict[str, tuple[tuple[str, str | None, bool], ...]] = {
     "not stationary": (("stationary", None, True),),
     "jaywalking": (("on_road", None, False), ("at_pedestrian_crossing", None, True)),
+    # swerving: a sideways acceleration of 2 m/s^2 or more (the motion predicates' "large"), not
+    # from a turn
+    "swerving": (("turning", None, True), ("lateral_acceleration_either_way", "accel=2", False)),
+    "swerving left": (("turning", None, True), ("has_lateral_acceleration", "min_accel=2", False)),
+    "swerving right": (("turning", None, True), ("has_lateral_acceleration", "max_accel=-2", False)),
 }
 
 
@@ -194,8 +135,8 @@ def _alternation(patterns: Any) -> str:
     return "|".join(f"(?:{p})" for p in patterns)
 
 
-_CATEGORY_RE = _alternation(p for p, _ in _CATEGORY_PHRASES)
-_MODIFIER_RE = _alternation(p for p, _, _ in _MODIFIERS)
+_CATEGORY_RE = _alternation(p for p, _ in CATEGORY_PHRASES)
+_MODIFIER_RE = _alternation(p for p, _, _ in MODIFIERS)
 _DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their)\s+)"
 _NOUN = rf"(?:{_CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{_CATEGORY_RE}))?"
 _NOUN_PHRASE = re.compile(rf"{_DETERMINER}*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})")
@@ -206,7 +147,7 @@ def _categories(noun: str) -> tuple[str, ...]:
     """The categories of a road-user noun, with "X or (other) Y" as the union of both."""
     found: list[str] = []
     for part in re.split(r"\s+(?:or|and)\s+(?:other\s+)?", noun.strip()):
-        for pattern, categories in _CATEGORY_PHRASES:
+        for pattern, categories in CATEGORY_PHRASES:
             if re.fullmatch(pattern, part):
                 found.extend(c for c in categories if c not in found)
                 break
@@ -224,7 +165,7 @@ def _modifier_conditions(mods: str | None) -> list[dict[str, Any]]:
     """The plan's condition entries of the adjectives ``mods`` ("moving parked")."""
     out: list[dict[str, Any]] = []
     for word in re.findall(_MODIFIER_RE, mods or ""):
-        for pattern, function, argument in _MODIFIERS:
+        for pattern, function, argument in MODIFIERS:
             if re.fullmatch(pattern, word):
                 out.extend(_conditions(function, argument, False))
                 break
@@ -232,327 +173,12 @@ def _modifier_conditions(mods: str | None) -> list[dict[str, Any]]:
 
 
 def _speed_mps(value: str, unit: str | None) -> float:
-    return round(float(value) * _TO_MPS[unit or "m/s"], 2)
+    return round(float(value) * TO_MPS[unit or "m/s"], 2)
 
 
-@dataclass(frozen=True)
-class _Phrase:
-    """One phrase after the subject and what it means.
-
-    ``{obj}`` in the pattern stands for the other road users (the phrase is then a relation to
-    them); ``{name}`` in ``argument``/``direction`` is filled from the pattern's named group
-    (``{speed}`` from ``value`` and ``unit``, in m/s); a ``neg`` group negates a condition.
-    """
-
-    pattern: str
-    function: str | None  # None: the phrase carries no condition ("in traffic")
-    argument: str | None = None
-    direction: str | None = None
-    reverse: bool = False  # the other road users do it to the subject ("crossing in front of X")
-    to_subject: bool = False  # a relation among the subject's own members ("close together")
-    sides: tuple[str, ...] = ()  # one relation per direction, all required ("on both sides")
-    any_side: bool = False  # with ``sides``: one relation holding in any of them ("on either side")
-    implied: str | None = None  # the other road users when the phrase names none ("ahead": the ego)
-
-
-_NUMBER = r"\d+(?:\.\d+)?"
-_DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
-_SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(_TO_MPS)})?"
-_GOING = r"(?:(?:moving|going|driving|travell?ing) )?"
-_HAVE = r"(?:that have|that has|having|with)"
-_CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing|designated crossing)s?"
-_INTERSECTION = r"(?:an |the |a )?(?:intersection|junction)s?"
-_NOT = r"(?P<neg>not |without )?"
-#: How many of the other road users a relation needs: "multiple X", "at least 2 X", "3 or more X".
-_QUANTITY = r"(?:(?P<multi>multiple|several|many) |(?:at least )?(?P<qty>\d+) (?:or more )?)?"
-#: The keyword that takes that count, per relation function.
-_COUNT_KEYWORD = {"has_objects_in_relative_direction": "min_number", "near_objects": "min_objects"}
-_ACCEL = (
-    r"(?P<accel>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
-)
-_NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
-_IN_LANE = (
-    r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking)) (?:a |the )?"
-)
-_ON_X = "on_intersection"
-_SPEEDING_UP = ("accelerating", "min_accel=1.0")
-_TURNING = ("turning", "direction='{dir}'")
-_BESIDE = "within_distance=5, lateral_thresh=2"
-_ALONG = "within_distance=25, lateral_thresh=1"
-_EGO = "the ego vehicle"
-
-_IN_LINE_AHEAD = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:ahead|in front|forward)"
-_IN_LINE_BEHIND = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:behind|back)"
-
-#: Phrases after the subject, tried in this order; each match is consumed.
-_PHRASES: tuple[_Phrase, ...] = (
-    # "two cars ahead (of X)": the second vehicle in line ahead of X, the ego when none is named
-    _Phrase(_IN_LINE_AHEAD + r" (?:of|from) {obj}", "in_line", "rank={rank}", "forward"),
-    _Phrase(_IN_LINE_BEHIND + r" (?:(?:of|from) )?{obj}", "in_line", "rank={rank}", "backward"),
-    _Phrase(_IN_LINE_AHEAD, "in_line", "rank={rank}", "forward", implied=_EGO),
-    _Phrase(_IN_LINE_BEHIND, "in_line", "rank={rank}", "backward", implied=_EGO),
-    # stated numbers first, so "within 5 m of X" is not read as a bare relation
-    _Phrase(
-        r"surrounded by (?P<count>\d+) or more {obj} within " + _DIST,
-        "near_objects", "distance_thresh={dist}, min_objects={count}",
-    ),
-    _Phrase(
-        r"(?:with|having) (?:at least )?(?P<count>\d+)(?: or more)? {obj} within " + _DIST,
-        "near_objects", "distance_thresh={dist}, min_objects={count}",
-    ),
-    _Phrase(r"within " + _DIST + " of " + _INTERSECTION, "near_intersection", "threshold={dist}"),
-    _Phrase(
-        r"within " + _DIST + r" (?:ahead of|in front of) {obj}",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
-    ),
-    _Phrase(
-        r"within " + _DIST + r" (?:behind|in back of) {obj}",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
-    ),
-    _Phrase(
-        r"within " + _DIST + r" (?:to|on) the (?P<dir>left|right)(?: side)? of {obj}",
-        "get_objects_in_relative_direction", "within_distance={dist}", "{dir}",
-    ),
-    _Phrase(
-        r"(?:directly )?(?:ahead of|in front of) {obj} within " + _DIST,
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
-    ),
-    # a place with no road user named is the ego's ("within 50 meters ahead", "to the right")
-    _Phrase(
-        r"within " + _DIST + r" (?:ahead|in front)(?! of)",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
-        implied=_EGO,
-    ),
-    _Phrase(
-        r"within " + _DIST + r" (?:behind|in back)(?= ,|\s*$)",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
-        implied=_EGO,
-    ),
-    _Phrase(
-        r"within " + _DIST + r" (?:to|on) the (?P<dir>left|right)(?: side)?(?! of)",
-        "get_objects_in_relative_direction", "within_distance={dist}", "{dir}", implied=_EGO,
-    ),
-    _Phrase(
-        r"within " + _DIST + r" (?:on|to) either side(?! of)",
-        "get_objects_in_relative_direction", "within_distance={dist}", sides=("left", "right"), any_side=True,
-        implied=_EGO,
-    ),
-    _Phrase(
-        r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) "
-        + _DIST + "(?: away)?",
-        "facing_toward", "within_angle=30, max_distance={dist}",
-    ),
-    _Phrase(
-        r"within " + _DIST + r" (?:on|to) either side of {obj}",
-        "get_objects_in_relative_direction", "within_distance={dist}", sides=("left", "right"), any_side=True,
-    ),
-    _Phrase(
-        r"within " + _DIST + r" of (?:each other|one another)",
-        "near_objects", "distance_thresh={dist}", to_subject=True,
-    ),
-    _Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
-    _Phrase(r"accelerating (?:at )?(?:more than|over|faster than|above|at least) " + _ACCEL,
-            "accelerating", "min_accel={accel}"),
-    _Phrase(
-        _GOING + r"(?:faster than|above|over|at more than) " + _SPEED, "has_velocity", "min_velocity={speed}"
-    ),
-    _Phrase(
-        _GOING + r"(?:slower than|below|under|at less than) " + _SPEED,
-        "has_velocity", "min_velocity=0, max_velocity={speed}",
-    ),
-    # relations to other road users
-    _Phrase(
-        r"(?:crossing|walking across|running across)(?: the road| the street)? in front of {obj}",
-        "being_crossed_by", direction="forward", reverse=True,
-    ),
-    _Phrase(
-        r"(?:with|having) {obj} (?:walking |running |cycling )?(?:crossing|across) in front of (?:them|it)",
-        "being_crossed_by", direction="forward",
-    ),
-    _Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
-    # overtaking: the overtaker crosses the other's left side from behind to ahead (clockwise)
-    _Phrase(r"(?:overtaking|passing) {obj} on the right", "being_crossed_by",
-            "in_direction='counterclockwise', forward_thresh=4", "right", reverse=True),
-    _Phrase(r"(?:overtaking|passing) {obj}(?: on the left)?", "being_crossed_by",
-            "in_direction='clockwise', forward_thresh=4", "left", reverse=True),
-    _Phrase(r"being (?:overtaken|passed) on the right by {obj}", "being_crossed_by",
-            "in_direction='counterclockwise', forward_thresh=4", "right"),
-    _Phrase(r"being (?:overtaken|passed) by {obj} on the right", "being_crossed_by",
-            "in_direction='counterclockwise', forward_thresh=4", "right"),
-    _Phrase(r"being (?:overtaken|passed) (?:on the left )?by {obj}(?: on the left)?", "being_crossed_by",
-            "in_direction='clockwise', forward_thresh=4", "left"),
-    # ... by a vehicle, when the overtaker is not named
-    _Phrase(r"(?:being |getting )?(?:overtaken|passed) (?:on|from) (?:the )?right", "being_crossed_by",
-            "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
-    _Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
-            "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
-    _Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj}"
-            r" in (?:the )?same lane",
-            "following"),
-    _Phrase(r"(?:following|tailgating|(?:following |driving |riding |travell?ing )?closely behind"
-            r"|driving behind) {obj}"
-            r"(?: too closely| closely)?", "following"),
-    _Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
-    _Phrase(r"(?:in (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
-    _Phrase(
-        r"(?:approaching|closing in on|(?:heading|moving|driving|going|walking) towards?) {obj}",
-        "heading_toward", "max_distance=30",
-    ),
-    _Phrase(
-        r"(?:(?:directly )?facing(?: towards?)?|looking (?:towards?|at)|turned towards?) {obj}",
-        "facing_toward", "within_angle=30, max_distance=20",
-    ),
-    _Phrase(
-        r"on the (?:other|opposite) side of the road(?: from| to| than)? {obj}",
-        "on_relative_side_of_road", "side='opposite'",
-    ),
-    _Phrase(r"on the same side of the road as {obj}", "on_relative_side_of_road", "side='same'"),
-    _Phrase(
-        r"(?:travell?ing|heading|driving|moving|going|riding) (?:in (?:the )?)?(?P<dir>same|opposite)"
-        r"(?: direction)? (?:as|to) {obj}",
-        "heading_in_relative_direction_to", direction="{dir}",
-    ),
-    _Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
-        r"|on both (?:their |its )?sides)",
-        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
-    ),
-    _Phrase(
-        r"(?:surrounded|boxed in|hemmed in) by {obj} on all (?:four )?sides",
-        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right", "forward", "backward"),
-    ),
-    _Phrase(
-        r"(?:boxed|hemmed|squeezed) in by {obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
-        r"|on both (?:their |its )?sides)",
-        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
-    ),
-    # "between two parked cars": one on the subject's left and one on its right, relative to the
-    # subject's own heading (a pedestrian crossing through a gap has the cars to its sides)
-    _Phrase(
-        r"(?:passing |crossing |walking |riding |driving |squeezing )?(?:in )?between (?:2 )?{obj}",
-        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
-    ),
-    _Phrase(
-        _HAVE + r" " + _QUANTITY
-        + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
-        "has_objects_in_relative_direction", _BESIDE, "{dir}",
-    ),
-    _Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )either side",
-        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"), any_side=True,
-    ),
-    _Phrase(_HAVE + r" " + _QUANTITY + r"{obj} (?:right |directly |just )?behind(?: them| it)?",
-            "has_objects_in_relative_direction",
-            _ALONG, "backward"),
-    _Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} (?:in front|ahead)(?: of (?:them|it))?",
-        "has_objects_in_relative_direction", _ALONG, "forward",
-    ),
-    _Phrase(
-        r"(?:towing|pulling) {obj}",
-        "has_objects_in_relative_direction", "within_distance=2, lateral_thresh=0.5", "backward",
-    ),
-    _Phrase(r"(?:behind|in back of) {obj}", "get_objects_in_relative_direction", _ALONG, "backward"),
-    _Phrase(r"(?:ahead of|in front of) {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
-    _Phrase(
-        r"(?:crossing|walking across|running across)(?: the road| the street)? (?:ahead|in front)(?! of)",
-        "being_crossed_by", direction="forward", reverse=True, implied=_EGO,
-    ),
-    _Phrase(r"(?:directly |straight )?ahead(?! of)", "get_objects_in_relative_direction", _ALONG, "forward",
-            implied=_EGO),
-    _Phrase(
-        r"(?:directly |immediately )?(?:to|on) either side of {obj}",
-        "get_objects_in_relative_direction", "within_distance=10", sides=("left", "right"), any_side=True,
-    ),
-    _Phrase(
-        r"(?:directly |immediately )?(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
-        "get_objects_in_relative_direction", "within_distance=10", "{dir}",
-    ),
-    _Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
-    _Phrase(r"(?:with|having) " + _QUANTITY + r"{obj} (?:nearby|close by|around)", "near_objects",
-            "distance_thresh=10"),
-    _Phrase(
-        r"(?:walking |moving |standing |riding )?(?:close together|side by side|in a group|together"
-        r"|(?:near|close to|next to) (?:each other|one another))",
-        "near_objects", "distance_thresh=2", to_subject=True,
-    ),
-    _Phrase(r"(?:going|driving|passing) close by {obj}", "near_objects", "distance_thresh=5"),
-    _Phrase(r"(?:going past|driving past|passing by) {obj}", "near_objects", "distance_thresh=20"),
-    # places on the map (before the bare "near X", which would read "an intersection" as a road user)
-    _Phrase(
-        _IN_LANE + r"(?:bike|bicycle|cycle) lanes?",
-        "on_lane_type", "lane_type='BIKE'",
-    ),
-    _Phrase(_IN_LANE + r"bus lanes?", "on_lane_type", "lane_type='BUS'"),
-    _Phrase(_IN_LANE + r"(?:vehicle|car|traffic|driving) lanes?", "on_lane_type", "lane_type='VEHICLE'"),
-    _Phrase(_NEAR + " " + _INTERSECTION, "near_intersection", "threshold=15"),
-    _Phrase(
-        r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
-    ),
-    _Phrase(r"(?:in|on|inside|within|at|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
-    _Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
-    _Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
-            "at_pedestrian_crossing"),
-    _Phrase(r"(?:on|in|inside|within|(?:driving |walking |going )?across) " + _CROSSWALK,
-            "at_pedestrian_crossing", "within_distance=0"),
-    _Phrase(r"(?:at|using) " + _CROSSWALK, "at_pedestrian_crossing"),
-    _Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
-    _Phrase(r"(?:on|in|within|inside) the drivable area", "in_drivable_area"),
-    _Phrase(r"(?P<neg>off the (?:road|street)|not on the (?:road|street))", "on_road"),
-    _Phrase(r"(?P<neg>outside|off|not (?:on|in)) the drivable area", "in_drivable_area"),
-    _Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
-    _Phrase(r"(?:on|in) (?:the )?(?:road|street|roadway|carriageway)", "on_road"),
-    _Phrase(r"in traffic", None),
-    _Phrase(r"jaywalking", "jaywalking"),
-    # bare relations (after the map phrases)
-    _Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",
-            "distance_thresh=10"),
-    _Phrase(r"(?:close to|very close to|in close proximity to) " + _QUANTITY + "{obj}", "near_objects",
-            "distance_thresh=5"),
-    # motions of the subject
-    _Phrase(
-        r"(?:slamming on the brakes|braking hard|braking heavily|hard braking|heavy braking|emergency braking"
-        r"|stopping suddenly|decelerating hard)",
-        "accelerating", "min_accel=-inf, max_accel=-3.0",
-    ),
-    _Phrase(_NOT + r"(?:speeding up|accelerating|picking up speed|gaining speed)", *_SPEEDING_UP),
-    _Phrase(
-        _NOT + r"(?:slowing down|slowing|decelerating|braking|losing speed)",
-        "accelerating", "min_accel=-inf, max_accel=-1.0",
-    ),
-    _Phrase(r"(?:making|taking|doing|performing) an? (?P<dir>left|right)(?: turn| hand turn)?", *_TURNING),
-    _Phrase(r"turning (?:to the )?(?P<dir>left|right)", *_TURNING),
-    _Phrase(_NOT + r"(?:making a turn|turning)", "turning"),
-    _Phrase(
-        r"(?:changing lanes?|switching lanes?|moving over|merging) (?:in)?to the (?P<dir>left|right)",
-        "changing_lanes", "direction='{dir}'",
-    ),
-    _Phrase(
-        r"(?:changing lanes?|switching lanes?|moving over|merging) into the lane"
-        r" (?:on |to )(?:their |its |the )(?P<dir>left|right)",
-        "changing_lanes", "direction='{dir}'",
-    ),
-    _Phrase(
-        r"(?:making|performing|doing) an? (?P<dir>left|right) lane change",
-        "changing_lanes", "direction='{dir}'",
-    ),
-    _Phrase(
-        _NOT + r"(?:changing lanes?|switching lanes?|lane changing"
-        r"|(?:performing|making|doing) a lane change)",
-        "changing_lanes",
-    ),
-    _Phrase(r"(?:waiting )?(?:stopped|halted)", *_STOPPED_OR_PARKED),
-    _Phrase(r"(?:waiting )?(?:standing still|at a standstill|not moving|at rest)", *_STOPPED),
-    _Phrase(_NOT + r"(?:parked|stationary)", "stationary"),
-    _Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),
-    _Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)", "has_velocity",
-            "min_velocity=0.5, max_velocity=3"),
-    _Phrase(r"(?:at (?:a )?high speed|quickly)", "has_velocity", "min_velocity=10"),
-    _Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running|travell?ing)", *_MOVING),
-)  # fmt: skip
 _COMPILED = tuple(
     (re.compile(r"(?<![\w-])" + p.pattern.replace("{obj}", f"(?P<obj>{_NP})") + r"(?![\w-])"), p)
-    for p in _PHRASES
+    for p in PHRASES
 )
 _SUBJECT = re.compile(
     rf"^\s*(?:(?:all|the|a|an|any|some|every)\s+)*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})(?![\w-])"
@@ -568,21 +194,24 @@ _NEGATIONS = frozenset(
 _BEING_AFTER_OBJECT = re.compile(rf"(?<![\w-]){_NP} (?:is )?being(?![\w-])")
 
 
-def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
+def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
     """Add what one matched phrase means to the plan being read."""
     if phrase.function is None:
         return
     groups = {k: v for k, v in found.groupdict().items() if v is not None}
     if "value" in groups:
         groups["speed"] = str(_speed_mps(groups["value"], groups.get("unit")))
+    if "low" in groups:  # "between 5 and 10 m/s": the unit stated once, after both
+        groups["low_speed"] = str(_speed_mps(groups["low"], groups.get("unit")))
     argument = phrase.argument.format(**groups) if phrase.argument else None
     if "multi" in groups or "qty" in groups:
-        if phrase.function not in _COUNT_KEYWORD:
+        if phrase.function not in COUNT_KEYWORD:
             raise _Unread(found.group(0))  # a count this relation cannot take
         count = 2 if "multi" in groups else int(groups["qty"])
-        argument = ", ".join(a for a in (argument, f"{_COUNT_KEYWORD[phrase.function]}={count}") if a)
+        argument = ", ".join(a for a in (argument, f"{COUNT_KEYWORD[phrase.function]}={count}") if a)
     if "obj" in groups or phrase.to_subject or phrase.implied:
-        other = groups.get("obj", phrase.implied or reading.subject_phrase or reading.subject_words)
+        implied = _last_other(reading) if phrase.implied == LAST else phrase.implied
+        other = groups.get("obj", implied or reading.subject_phrase or reading.subject_words)
         if phrase.any_side:
             reading.relate(phrase.function, other, argument=argument, any_direction=phrase.sides)
             return
@@ -592,6 +221,15 @@ def _apply(phrase: _Phrase, reading: _Reading, found: re.Match[str]) -> None:
             )
     else:
         reading.condition(phrase.function, argument, negated="neg" in groups)
+
+
+def _last_other(reading: _Reading) -> str:
+    """The other road user of the last relation read so far, or the ego when there is none."""
+    for rel in reversed(reading.relations):
+        for words in (rel["other_words"], rel["subject_words"]):
+            if words != reading.subject_words:
+                return str(words)
+    return EGO
 
 
 #: "a group of (at least N) X": the subject is each member of such a group.
@@ -682,7 +320,7 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
                 rest = rest[: found.start()] + " , " + rest[found.end() :]
         if group is not None:
             _as_group(reading, int(group.group("size") or _GROUP_SIZE))
-        unread = skipped + [word for word in re.findall(r"[\w'/.-]+", rest) if word not in _FILLERS]
+        unread = skipped + [word for word in re.findall(r"[\w'/.-]+", rest) if word not in FILLERS]
         if unread and (not partial or _NEGATIONS.intersection(unread)):
             return None  # a negation left out would turn the reading into its opposite
         if unread:
@@ -745,10 +383,10 @@ def _normalised_text(description: str) -> str:
     """
     text = " ".join(description.lower().replace(",", " ").split()).rstrip(".!")
     text = re.sub(r"\bego-(vehicle|car)\b", r"ego \1", text)
-    text = re.sub(r"\b(" + "|".join(_WORD_NUMBERS) + r")\b", lambda m: _WORD_NUMBERS[m.group(1)], text)
+    text = re.sub(r"\b(" + "|".join(WORD_NUMBERS) + r")\b", lambda m: WORD_NUMBERS[m.group(1)], text)
     text = re.sub(
-        r"\b(" + "|".join(_ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
-        lambda m: f"{m.group(2)} {_ORDINALS[m.group(1)]} {m.group(2)} ",
+        r"\b(" + "|".join(ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
+        lambda m: f"{m.group(2)} {ORDINALS[m.group(1)]} {m.group(2)} ",
         text,
     )
     return re.sub(r"^(\d+ (?:cars?|vehicles?) (?:ahead|in front|forward|behind|back))", r"vehicle \1", text)

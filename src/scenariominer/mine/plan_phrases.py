@@ -1,0 +1,533 @@
+"""The phrase tables of the description reader (:mod:`scenariominer.mine.plan_reader`).
+
+Each table maps English phrasing to the mining predicates, with the settings the predicates'
+docstrings and the evaluation set's dev part use for each phrase: road users
+(:data:`CATEGORY_PHRASES`), their adjectives (:data:`MODIFIERS`) and the phrases after the subject
+(:data:`PHRASES`: motions, places on the map, relations to other road users). Pure data: the
+reader compiles the patterns and applies them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "CATEGORY_PHRASES",
+    "COUNT_KEYWORD",
+    "EGO",
+    "FILLERS",
+    "LAST",
+    "MODIFIERS",
+    "ORDINALS",
+    "PHRASES",
+    "TO_MPS",
+    "WORD_NUMBERS",
+    "Phrase",
+]
+
+#: Road users: (phrase pattern, categories). Longer phrases first; plural forms included.
+CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
+    (r"(?:the )?ego(?: vehicle| car)?|(?:the )?self[- ]driving (?:car|vehicle)", ("EGO_VEHICLE",)),
+    (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
+    (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
+    (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
+    (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
+    (r"scooter riders?|wheeled riders?", ("WHEELED_RIDER",)),
+    (r"(?:bi)?cyclists?|(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),
+    (r"motorcycles?|motorbikes?", ("MOTORCYCLE",)),
+    # before "pedestrians" and "signs"
+    (
+        r"mobile (?:pedestrian )?(?:crossing )?signs?|(?:portable|mobile) crosswalk signs?",
+        ("MOBILE_PEDESTRIAN_CROSSING_SIGN",),
+    ),
+    (r"school bus(?:es)?", ("SCHOOL_BUS",)),
+    (r"articulated bus(?:es)?|bendy bus(?:es)?", ("ARTICULATED_BUS",)),
+    (r"city bus(?:es)?", ("BUS",)),
+    (r"bus(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
+    (r"box trucks?|delivery trucks?", ("BOX_TRUCK",)),
+    (r"truck cabs?|semi[- ]trucks?|tractor units?", ("TRUCK_CAB",)),
+    (r"trucks?|lorr(?:y|ies)", ("TRUCK", "BOX_TRUCK", "TRUCK_CAB")),
+    (r"(?:large|big|heavy) vehicles?", ("LARGE_VEHICLE",)),
+    (
+        r"(?:(?:variable )?message|electronic|lighted|led) (?:board|sign) trailers?|message boards?"
+        r"|message signs?",
+        ("MESSAGE_BOARD_TRAILER",),
+    ),
+    (
+        r"(?:portable |temporary )?traffic lights? trailers?|portable traffic lights?",
+        ("TRAFFIC_LIGHT_TRAILER",),
+    ),
+    (r"(?:vehicular )?trailers?", ("VEHICULAR_TRAILER",)),
+    (r"trams?|streetcars?|trains?|trolleys?|railed vehicles?", ("RAILED_VEHICLE",)),
+    (r"cars?|sedans?|suvs?|vans?|pickups?|passenger vehicles?|regular vehicles?", ("REGULAR_VEHICLE",)),
+    (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
+    (r"(?:motor )?vehicles?", ("VEHICLE",)),
+    (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
+    (
+        r"(?:people|persons?|pedestrians?) in (?:a )?wheelchairs?|wheelchair users?|wheelchairs?",
+        ("WHEELCHAIR",),
+    ),
+    (r"strollers?|prams?|pushchairs?", ("STROLLER",)),
+    (r"pedestrians?|people|persons?|someone|somebody|peds?|walkers?", ("PEDESTRIAN",)),
+    (r"dogs?", ("DOG",)),
+    (r"animals?", ("ANIMAL", "DOG")),
+    (r"bollards?", ("BOLLARD",)),
+    (r"(?:traffic |construction )?cones?", ("CONSTRUCTION_CONE",)),
+    (r"(?:construction )?barrels?", ("CONSTRUCTION_BARREL",)),
+    (r"stop signs?", ("STOP_SIGN",)),
+    (r"signs?", ("SIGN",)),
+    (r"objects?|things?|anything|everything|road users?|actors?|agents?", ("ANY",)),
+    # last: "traffic" begins other road users' names ("traffic cone", "traffic officer")
+    (r"traffic", ("VEHICLE",)),
+)
+
+#: A speed condition for "moving" and for the riding/walking verbs (the predicate's default).
+MOVING = ("has_velocity", "min_velocity=0.5")
+STOPPED = ("has_velocity", "min_velocity=0, max_velocity=0.5")
+#: "stopped": at rest at the timestamp, parked objects included (the Argoverse 2 scenario-mining
+#: ground truth of "stopped car" refers to the parked cars too); compiled by
+#: :mod:`scenariominer.mine.plan_program` as ``stationary`` or ``has_velocity(<= 0.5 m/s)``.
+STOPPED_OR_PARKED = ("stopped", None)
+
+#: Adjectives before a road user: (pattern, condition function, argument).
+MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
+    (r"moving", *MOVING),
+    (r"parked|stationary", "stationary", None),
+    (r"active|non-stationary", "not stationary", None),
+    (r"jaywalking", "jaywalking", None),
+    (r"stopped|halted", *STOPPED_OR_PARKED),
+    (r"fast|speeding|fast-moving", "has_velocity", "min_velocity=10"),
+    (r"turning", "turning", None),
+    (r"accelerating", "accelerating", "min_accel=1.0"),
+    (r"braking|decelerating", "accelerating", "min_accel=-inf, max_accel=-1.0"),
+)
+
+WORD_NUMBERS = {
+    "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6", "seven": "7",
+    "eight": "8", "nine": "9", "ten": "10", "twenty": "20", "thirty": "30", "fifty": "50",
+}  # fmt: skip
+ORDINALS = {"first": "1", "second": "2", "third": "3", "fourth": "4", "fifth": "5"}
+TO_MPS = {
+    "meters per second": 1.0, "metres per second": 1.0, "m/s": 1.0, "mps": 1.0,
+    "kilometers per hour": 1 / 3.6, "kilometres per hour": 1 / 3.6, "km/h": 1 / 3.6, "kph": 1 / 3.6,
+    "kmh": 1 / 3.6, "miles per hour": 0.44704, "mph": 0.44704,
+}  # fmt: skip
+#: Words that carry no condition of their own.
+FILLERS = frozenset(
+    {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
+    | {"while", "also", "currently", "there", "driving", "standing"}
+)
+
+
+@dataclass(frozen=True)
+class Phrase:
+    """One phrase after the subject and what it means.
+
+    ``{obj}`` in the pattern stands for the other road users (the phrase is then a relation to
+    them); ``{name}`` in ``argument``/``direction`` is filled from the pattern's named group
+    (``{speed}`` from ``value`` and ``unit``, in m/s); a ``neg`` group negates a condition.
+    """
+
+    pattern: str
+    function: str | None  # None: the phrase carries no condition ("in traffic")
+    argument: str | None = None
+    direction: str | None = None
+    reverse: bool = False  # the other road users do it to the subject ("crossing in front of X")
+    to_subject: bool = False  # a relation among the subject's own members ("close together")
+    sides: tuple[str, ...] = ()  # one relation per direction, all required ("on both sides")
+    any_side: bool = False  # with ``sides``: one relation holding in any of them ("on either side")
+    implied: str | None = None  # the other road users when the phrase names none ("ahead": the ego)
+
+
+_NUMBER = r"\d+(?:\.\d+)?"
+_DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
+_SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})?"
+_GOING = r"(?:(?:moving|going|driving|travell?ing) )?"
+_HAVE = r"(?:that have|that has|having|with)"
+_CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing|designated crossing)s?"
+_INTERSECTION = r"(?:an |the |a )?(?:intersection|junction)s?"
+_NOT = r"(?P<neg>not |without )?"
+#: How many of the other road users a relation needs: "multiple X", "at least 2 X", "3 or more X".
+_QUANTITY = r"(?:(?P<multi>multiple|several|many) |(?:at least )?(?P<qty>\d+) (?:or more )?)?"
+#: The keyword that takes that count, per relation function.
+COUNT_KEYWORD = {"has_objects_in_relative_direction": "min_number", "near_objects": "min_objects"}
+_ACCEL = (
+    r"(?P<accel>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
+)
+#: Not followed by a side ("within 20 m *behind them*" is a relation in that direction).
+_NO_SIDE = r"(?! (?:ahead|in front|behind|in back|(?:on|to) (?:their |its |the )?(?:left|right)))"
+_MORE_THAN = (
+    r"(?:more than|over|faster than|harder than|stronger than|greater than|above|at least|exceeding"
+    r"|in excess of|beyond|by more than|of more than)"
+)
+_LATERAL = r"(?:an? )?lateral acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL
+_SWERVE = r"(?:(?:swerving|veering|weaving|jerking sideways) )?(?:(?:with|having|at|showing) )?"
+_SWERVING = r"(?:swerving|veering|weaving)"
+_TOWARD_SIDE = r"(?:to(?:ward)? (?:the |its |their )?)?"
+_NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
+_IN_LANE = (
+    r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking)) (?:a |the )?"
+)
+_ON_X = "on_intersection"
+_SPEEDING_UP = ("accelerating", "min_accel=1.0")
+_TURNING = ("turning", "direction='{dir}'")
+_BESIDE = "within_distance=5, lateral_thresh=2"
+_ALONG = "within_distance=25, lateral_thresh=1"
+EGO = "the ego vehicle"
+#: ``implied``: the road user of the last relation read (the ego when there is none)
+LAST = "<last>"
+
+_IN_LINE_AHEAD = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:ahead|in front|forward)"
+_IN_LINE_BEHIND = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:behind|back)"
+
+#: Phrases after the subject, tried in this order; each match is consumed.
+PHRASES: tuple[Phrase, ...] = (
+    # "two cars ahead (of X)": the second vehicle in line ahead of X, the ego when none is named
+    Phrase(_IN_LINE_AHEAD + r" (?:of|from) {obj}", "in_line", "rank={rank}", "forward"),
+    Phrase(_IN_LINE_BEHIND + r" (?:(?:of|from) )?{obj}", "in_line", "rank={rank}", "backward"),
+    Phrase(_IN_LINE_AHEAD, "in_line", "rank={rank}", "forward", implied=EGO),
+    Phrase(_IN_LINE_BEHIND, "in_line", "rank={rank}", "backward", implied=EGO),
+    # stated numbers first, so "within 5 m of X" is not read as a bare relation
+    Phrase(
+        r"surrounded by (?P<count>\d+) or more {obj} within " + _DIST,
+        "near_objects", "distance_thresh={dist}, min_objects={count}",
+    ),
+    Phrase(
+        r"(?:with|having) (?:at least )?(?P<count>\d+)(?: or more)? {obj} within " + _DIST + _NO_SIDE,
+        "near_objects", "distance_thresh={dist}, min_objects={count}",
+    ),
+    Phrase(r"within " + _DIST + " of " + _INTERSECTION, "near_intersection", "threshold={dist}"),
+    Phrase(
+        r"within " + _DIST + r" (?:ahead of|in front of) {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+    ),
+    Phrase(
+        r"within " + _DIST + r" (?:behind|in back of) {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+    ),
+    Phrase(
+        r"within " + _DIST + r" (?:to|on) the (?P<dir>left|right)(?: side)? of {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}", "{dir}",
+    ),
+    Phrase(
+        r"(?:directly )?(?:ahead of|in front of) {obj} within " + _DIST,
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+    ),
+    Phrase(
+        r"(?:directly )?(?:behind|in back of) {obj} within " + _DIST,
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+    ),
+    Phrase(
+        r"(?:directly )?(?:to|on) the (?P<dir>left|right)(?: side| hand side)? of {obj} within " + _DIST,
+        "get_objects_in_relative_direction", "within_distance={dist}", "{dir}",
+    ),
+    # "with a pedestrian (directly) ahead of them within 10 m", "with 2 cyclists within 5 m behind it"
+    Phrase(
+        _HAVE + " " + _QUANTITY + r"{obj} (?:(?:directly|right|just) )?(?:ahead|in front)(?: of (?:them|it))?"
+        r" within " + _DIST,
+        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+    ),
+    Phrase(
+        _HAVE + " " + _QUANTITY + r"{obj} within " + _DIST + r" (?:ahead|in front)(?: of (?:them|it))?",
+        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+    ),
+    Phrase(
+        _HAVE + " " + _QUANTITY + r"{obj} (?:(?:directly|right|just) )?behind(?: (?:them|it))?"
+        r" within " + _DIST,
+        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+    ),
+    Phrase(
+        _HAVE + " " + _QUANTITY + r"{obj} within " + _DIST + r" behind(?: (?:them|it))?",
+        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+    ),
+    Phrase(
+        _HAVE + " " + _QUANTITY + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)"
+        r"(?: side| hand side)? within " + _DIST,
+        "has_objects_in_relative_direction", "within_distance={dist}", "{dir}",
+    ),
+    Phrase(
+        _HAVE + " " + _QUANTITY + r"{obj} within " + _DIST
+        + r" (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
+        "has_objects_in_relative_direction", "within_distance={dist}", "{dir}",
+    ),
+    # a place with no road user named is the ego's ("within 50 meters ahead", "to the right")
+    Phrase(
+        r"within " + _DIST + r" (?:ahead|in front)(?! of)",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+        implied=EGO,
+    ),
+    Phrase(
+        r"within " + _DIST + r" (?:behind|in back)(?= ,|\s*$)",
+        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+        implied=EGO,
+    ),
+    Phrase(
+        r"within " + _DIST + r" (?:to|on) the (?P<dir>left|right)(?: side)?(?! of)",
+        "get_objects_in_relative_direction", "within_distance={dist}", "{dir}", implied=EGO,
+    ),
+    Phrase(
+        r"within " + _DIST + r" (?:on|to) either side(?! of)",
+        "get_objects_in_relative_direction", "within_distance={dist}", sides=("left", "right"), any_side=True,
+        implied=EGO,
+    ),
+    Phrase(
+        r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) "
+        + _DIST + "(?: away)?",
+        "facing_toward", "within_angle=30, max_distance={dist}",
+    ),
+    Phrase(
+        r"within " + _DIST + r" (?:on|to) either side of {obj}",
+        "get_objects_in_relative_direction", "within_distance={dist}", sides=("left", "right"), any_side=True,
+    ),
+    Phrase(
+        r"within " + _DIST + r" of (?:each other|one another)",
+        "near_objects", "distance_thresh={dist}", to_subject=True,
+    ),
+    Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
+    Phrase(r"accelerating (?:at )?" + _MORE_THAN + " " + _ACCEL, "accelerating", "min_accel={accel}"),
+    Phrase(_HAVE + r" (?:an )?acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
+            "accelerating", "min_accel={accel}"),
+    Phrase(r"(?:decelerating|braking|slowing(?: down)?) (?:at )?" + _MORE_THAN + " " + _ACCEL,
+            "accelerating", "min_accel=-inf, max_accel=-{accel}"),
+    Phrase(_HAVE + r" (?:a )?deceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
+            "accelerating", "min_accel=-inf, max_accel=-{accel}"),
+    # a lateral acceleration toward one side, or of either sign ("swerving", "either way")
+    Phrase(_SWERVE + _LATERAL + r" (?:to(?:ward)? (?:the |its |their )?left|leftwards?)",
+            "has_lateral_acceleration", "min_accel={accel}"),
+    Phrase(_SWERVE + _LATERAL + r" (?:to(?:ward)? (?:the |its |their )?right|rightwards?)",
+            "has_lateral_acceleration", "max_accel=-{accel}"),
+    Phrase(_SWERVE + _LATERAL + r"(?: either way| in either direction| to either side| in any direction"
+            r"| (?:to the )?left or right)?", "lateral_acceleration_either_way", "accel={accel}"),
+    Phrase(_SWERVING + r"(?: sideways)? " + _TOWARD_SIDE + "left", "swerving left"),
+    Phrase(_SWERVING + r"(?: sideways)? " + _TOWARD_SIDE + "right", "swerving right"),
+    Phrase(_SWERVING + r"(?: sideways| from side to side| across (?:the )?lanes?)?", "swerving"),
+    Phrase(
+        _GOING + r"(?:at )?(?:a )?(?:speeds? )?(?:of )?between (?P<low>" + _NUMBER + r") ?(?:"
+        + "|".join(TO_MPS) + r")? and " + _SPEED,
+        "has_velocity", "min_velocity={low_speed}, max_velocity={speed}",
+    ),
+    Phrase(
+        _GOING + r"(?:at |with )?(?:an? )?(?:speeds?|velocit(?:y|ies)) (?:of )?(?:more than|over|above"
+        r"|higher than|greater than|exceeding|in excess of|at least) " + _SPEED,
+        "has_velocity", "min_velocity={speed}",
+    ),
+    Phrase(
+        _GOING + r"(?:at |with )?(?:an? )?(?:speeds?|velocit(?:y|ies)) (?:of )?(?:less than|below|under"
+        r"|lower than|at most) " + _SPEED,
+        "has_velocity", "min_velocity=0, max_velocity={speed}",
+    ),
+    Phrase(
+        _GOING + r"(?:faster than|above|over|at more than|exceeding|at over) " + _SPEED,
+        "has_velocity", "min_velocity={speed}",
+    ),
+    Phrase(
+        _GOING + r"(?:slower than|below|under|at less than) " + _SPEED,
+        "has_velocity", "min_velocity=0, max_velocity={speed}",
+    ),
+    # relations to other road users
+    Phrase(
+        r"(?:crossing|walking across|running across|passing|walking|running|stepping|darting|dashing)"
+        r"(?: the road| the street)? in front of {obj}",
+        "being_crossed_by", direction="forward", reverse=True,
+    ),
+    Phrase(
+        r"(?:with|having) {obj} (?:walking |running |cycling )?(?:crossing|across) in front of (?:them|it)",
+        "being_crossed_by", direction="forward",
+    ),
+    Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
+    # overtaking: the overtaker crosses the other's left side from behind to ahead (clockwise)
+    Phrase(r"(?:overtaking|passing) {obj} on the right", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right", reverse=True),
+    Phrase(r"(?:overtaking|passing) {obj}(?: on the left)?", "being_crossed_by",
+            "in_direction='clockwise', forward_thresh=4", "left", reverse=True),
+    Phrase(r"being (?:overtaken|passed) on the right by {obj}", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right"),
+    Phrase(r"being (?:overtaken|passed) by {obj} on the right", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right"),
+    Phrase(r"being (?:overtaken|passed) (?:on the left )?by {obj}(?: on the left)?", "being_crossed_by",
+            "in_direction='clockwise', forward_thresh=4", "left"),
+    # ... by a vehicle, when the overtaker is not named
+    Phrase(r"(?:being |getting )?(?:overtaken|passed) (?:on|from) (?:the )?right", "being_crossed_by",
+            "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
+    Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
+            "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
+    Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj}"
+            r" in (?:the )?same lane",
+            "following"),
+    Phrase(r"(?:following|tailgating|(?:following |driving |riding |travell?ing )?closely behind"
+            r"|driving behind) {obj}"
+            r"(?: too closely| closely)?", "following"),
+    Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
+    Phrase(r"(?:in (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
+    Phrase(r"(?:approaching|closing in on) {obj}", "heading_toward", "max_distance=30"),
+    # "moving toward X" states no distance: the predicate's own (any distance)
+    Phrase(
+        r"(?:heading|moving|driving|going|walking|running|riding|travell?ing|cycling)"
+        r" (?:straight |directly )?towards? {obj}",
+        "heading_toward",
+    ),
+    Phrase(
+        r"(?:(?:directly )?facing(?: towards?)?|looking (?:towards?|at)|turned towards?) {obj}",
+        "facing_toward", "within_angle=30, max_distance=20",
+    ),
+    Phrase(
+        r"on the (?:other|opposite) side of the road(?: from| to| than)? {obj}",
+        "on_relative_side_of_road", "side='opposite'",
+    ),
+    Phrase(r"on the same side of the road as {obj}", "on_relative_side_of_road", "side='same'"),
+    Phrase(
+        r"(?:travell?ing|heading|driving|moving|going|riding) (?:in (?:the )?)?(?P<dir>same|opposite)"
+        r"(?: direction)? (?:as|to) {obj}",
+        "heading_in_relative_direction_to", direction="{dir}",
+    ),
+    Phrase(
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
+        r"|on both (?:their |its )?sides)",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
+    ),
+    Phrase(
+        r"(?:surrounded|boxed in|hemmed in) by {obj} on all (?:four )?sides",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right", "forward", "backward"),
+    ),
+    Phrase(
+        r"(?:boxed|hemmed|squeezed) in by {obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
+        r"|on both (?:their |its )?sides)",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
+    ),
+    # "between two parked cars": one on the subject's left and one on its right, relative to the
+    # subject's own heading (a pedestrian crossing through a gap has the cars to its sides)
+    Phrase(
+        r"(?:passing |crossing |walking |riding |driving |squeezing )?(?:in )?between (?:2 )?{obj}",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"),
+    ),
+    Phrase(
+        _HAVE + r" " + _QUANTITY
+        + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
+        "has_objects_in_relative_direction", _BESIDE, "{dir}",
+    ),
+    Phrase(
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )either side",
+        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"), any_side=True,
+    ),
+    Phrase(_HAVE + r" " + _QUANTITY + r"{obj} (?:right |directly |just )?behind(?: them| it)?",
+            "has_objects_in_relative_direction",
+            _ALONG, "backward"),
+    Phrase(
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:in front|ahead)(?: of (?:them|it))?",
+        "has_objects_in_relative_direction", _ALONG, "forward",
+    ),
+    Phrase(
+        r"(?:towing|pulling) {obj}",
+        "has_objects_in_relative_direction", "within_distance=2, lateral_thresh=0.5", "backward",
+    ),
+    Phrase(r"(?:behind|in back of) {obj}", "get_objects_in_relative_direction", _ALONG, "backward"),
+    Phrase(r"(?:ahead of|in front of) {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
+    Phrase(
+        r"(?:crossing|walking across|running across)(?: the road| the street)? (?:ahead|in front)(?! of)",
+        "being_crossed_by", direction="forward", reverse=True, implied=EGO,
+    ),
+    Phrase(r"(?:directly |straight )?ahead(?! of)", "get_objects_in_relative_direction", _ALONG, "forward",
+            implied=EGO),
+    Phrase(
+        r"(?:directly |immediately )?(?:to|on) either side of {obj}",
+        "get_objects_in_relative_direction", "within_distance=10", sides=("left", "right"), any_side=True,
+    ),
+    Phrase(
+        r"(?:directly |immediately )?(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
+        "get_objects_in_relative_direction", "within_distance=10", "{dir}",
+    ),
+    Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
+    Phrase(r"(?:with|having) " + _QUANTITY + r"{obj} (?:nearby|close by|around)", "near_objects",
+            "distance_thresh=10"),
+    Phrase(
+        r"(?:walking |moving |standing |riding )?(?:close together|side by side|in a group|together"
+        r"|(?:near|close to|next to) (?:each other|one another))",
+        "near_objects", "distance_thresh=2", to_subject=True,
+    ),
+    Phrase(r"(?:going|driving|passing) close by {obj}", "near_objects", "distance_thresh=5"),
+    Phrase(r"(?:going past|driving past|passing by) {obj}", "near_objects", "distance_thresh=20"),
+    # places on the map (before the bare "near X", which would read "an intersection" as a road user)
+    Phrase(
+        _IN_LANE + r"(?:bike|bicycle|cycle) lanes?",
+        "on_lane_type", "lane_type='BIKE'",
+    ),
+    Phrase(_IN_LANE + r"bus lanes?", "on_lane_type", "lane_type='BUS'"),
+    Phrase(_IN_LANE + r"(?:vehicle|car|traffic|driving) lanes?", "on_lane_type", "lane_type='VEHICLE'"),
+    Phrase(_NEAR + " " + _INTERSECTION, "near_intersection", "threshold=15"),
+    Phrase(
+        r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
+    ),
+    Phrase(r"(?:in|on|inside|within|at|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
+    Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
+    Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
+            "at_pedestrian_crossing"),
+    Phrase(r"(?:on|in|inside|within|(?:driving |walking |going )?across) " + _CROSSWALK,
+            "at_pedestrian_crossing", "within_distance=0"),
+    Phrase(r"(?:at|using) " + _CROSSWALK, "at_pedestrian_crossing"),
+    Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
+    Phrase(
+        r"(?:(?:placed|located|sitting|lying|left|standing|positioned|situated) )?(?:on|in|within|inside)"
+        r" the drivable (?:area|surface|space|region|road surface)",
+        "in_drivable_area",
+    ),
+    Phrase(r"(?P<neg>off the (?:road|street)|not on the (?:road|street))", "on_road"),
+    Phrase(
+        r"(?P<neg>outside|off|not (?:on|in)) the drivable (?:area|surface|space|region)", "in_drivable_area"
+    ),
+    Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
+    Phrase(r"(?:on|in) (?:the )?(?:road|street|roadway|carriageway)", "on_road"),
+    Phrase(r"in traffic", None),
+    # "ahead of the ego in the same lane": the lane of the road user the description last named
+    Phrase(r"in (?:the )?same lane(?! as)", "in_same_lane", implied=LAST),
+    Phrase(r"jaywalking", "jaywalking"),
+    # bare relations (after the map phrases)
+    Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",
+            "distance_thresh=10"),
+    Phrase(r"(?:close to|very close to|in close proximity to) " + _QUANTITY + "{obj}", "near_objects",
+            "distance_thresh=5"),
+    # motions of the subject
+    Phrase(
+        r"(?:slamming on the brakes|braking hard|braking heavily|hard braking|heavy braking|emergency braking"
+        r"|stopping suddenly|decelerating hard)",
+        "accelerating", "min_accel=-inf, max_accel=-3.0",
+    ),
+    Phrase(_NOT + r"(?:speeding up|accelerating|picking up speed|gaining speed)", *_SPEEDING_UP),
+    Phrase(
+        _NOT + r"(?:slowing down|slowing|decelerating|braking|losing speed)",
+        "accelerating", "min_accel=-inf, max_accel=-1.0",
+    ),
+    Phrase(r"(?:making|taking|doing|performing) an? (?P<dir>left|right)(?: turn| hand turn)?", *_TURNING),
+    Phrase(r"turning (?:to the )?(?P<dir>left|right)", *_TURNING),
+    Phrase(_NOT + r"(?:making a turn|turning)", "turning"),
+    Phrase(
+        r"(?:changing lanes?|switching lanes?|moving over|merging) (?:in)?to the (?P<dir>left|right)",
+        "changing_lanes", "direction='{dir}'",
+    ),
+    Phrase(
+        r"(?:changing lanes?|switching lanes?|moving over|merging) into the lane"
+        r" (?:on |to )(?:their |its |the )(?P<dir>left|right)",
+        "changing_lanes", "direction='{dir}'",
+    ),
+    Phrase(
+        r"(?:making|performing|doing) an? (?P<dir>left|right) lane change",
+        "changing_lanes", "direction='{dir}'",
+    ),
+    Phrase(
+        _NOT + r"(?:changing lanes?|switching lanes?|lane changing"
+        r"|(?:performing|making|doing) a lane change)",
+        "changing_lanes",
+    ),
+    Phrase(r"(?:waiting )?(?:stopped|halted)", *STOPPED_OR_PARKED),
+    # at rest at the timestamp, parked objects included (as "stopped")
+    # waiting: momentarily stopped, not parked
+    Phrase(r"waiting (?:standing still|at a standstill|not moving|at rest)", *STOPPED),
+    Phrase(r"(?:standing still|at a standstill|not moving|at rest)", *STOPPED_OR_PARKED),
+    # "waiting at a stop sign": stopped there (the place is read by its own phrase)
+    Phrase(r"waiting", *STOPPED),
+    Phrase(_NOT + r"(?:parked|stationary)", "stationary"),
+    Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),
+    Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)", "has_velocity",
+            "min_velocity=0.5, max_velocity=3"),
+    Phrase(r"(?:at (?:a )?high speed|quickly)", "has_velocity", "min_velocity=10"),
+    Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running|travell?ing)", *MOVING),
+)  # fmt: skip
