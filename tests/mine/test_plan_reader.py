@@ -100,6 +100,16 @@ def _referred(description: str) -> set[str]:
         # at rest, parked included; "waiting" is momentarily stopped, not parked
         ("objects standing still on the road", {"parked"}),
         ("vehicles waiting at a standstill", set()),
+        # rewordings: an adjective that is a motion or a relation, a possessive, a shared verb
+        ("right-turning cars", {"turner"}),
+        ("left-turning cars", set()),
+        ("lane-changing cars", {"changer"}),
+        ("oncoming cars", {"oncoming", "parked"}),  # both point west, against the ego
+        ("vehicles in the ego vehicle's lane", {"lead", "changer"}),
+        ("pedestrians in the ego vehicle's path", {"ped"}),  # crosses 17.75 m ahead of the ego
+        ("cars approaching and facing the ego vehicle", {"overtaker", "oncoming"}),  # from behind, head-on
+        ("cars getting closer to the ego vehicle", {"overtaker", "oncoming"}),
+        ("vehicles turning with nearby pedestrians", {"turner"}),  # ped2 stands by its path
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -116,7 +126,7 @@ def test_a_read_description_finds_the_objects_it_describes(description: str, exp
         "vehicles with a bike that is to their right",
         "vehicles in the wrong lane",  # "in the ... lane" is known, "wrong" is not
         "vehicles weaving through traffic",
-        "oncoming traffic",
+        "traffic zipping past",
     ],
 )
 def test_a_description_with_any_unknown_word_is_left_to_the_model(description: str) -> None:
@@ -409,7 +419,7 @@ def test_a_road_user_named_in_the_words_left_out_is_still_required_nearby() -> N
     assert _referred_partly("pedestrians walking two dogs") == set()
     assert _referred_partly("pedestrians walking with poise")  # nothing named: the walkers
     # the ego is always there: no distance to it is assumed
-    ego = read_plan("cars getting closer to the ego vehicle", partial=True)
+    ego = read_plan("cars sneaking up on the ego vehicle", partial=True)
     assert ego is not None and ego["assumed"] == [] and ego["relations"] == []
 
 

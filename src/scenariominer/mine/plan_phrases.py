@@ -437,6 +437,8 @@ PHRASES: tuple[Phrase, ...] = (
         "get_objects_in_relative_direction", "within_distance=10", "{dir}",
     ),
     Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
+    Phrase(r"(?:with|having) " + _QUANTITY + r"nearby {obj}", "near_objects", "distance_thresh=10"),
+    Phrase(r"in (?:the )?path of {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
     Phrase(r"(?:with|having) " + _QUANTITY + r"{obj} (?:nearby|close by|around)", "near_objects",
             "distance_thresh=10"),
     Phrase(

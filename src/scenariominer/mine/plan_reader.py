@@ -389,4 +389,40 @@ def _normalised_text(description: str) -> str:
         lambda m: f"{m.group(2)} {ORDINALS[m.group(1)]} {m.group(2)} ",
         text,
     )
-    return re.sub(r"^(\d+ (?:cars?|vehicles?) (?:ahead|in front|forward|behind|back))", r"vehicle \1", text)
+    text = re.sub(r"^(\d+ (?:cars?|vehicles?) (?:ahead|in front|forward|behind|back))", r"vehicle \1", text)
+    return _reworded(text)
+
+
+#: A relation verb that two of may share one object: "approaching and facing X".
+_RELATION_VERB = (
+    r"(?:approaching|facing|following|overtaking|passing|tailgating|closing in on|near|next to|behind"
+    r"|ahead of|in front of|(?:heading|moving|driving) towards?)"
+)
+_SHARED_VERB = re.compile(
+    rf"(?<![\w-])(?P<v1>{_RELATION_VERB}) and (?P<v2>{_RELATION_VERB}) (?P<obj>{_NP})(?![\w-])"
+)
+#: Other wordings put in the one form the tables read: (pattern, replacement).
+_REWORDINGS: tuple[tuple[re.Pattern[str], str], ...] = (
+    # "the ego vehicle's lane / path"
+    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? lane\b"), "the same lane as the ego vehicle"),
+    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
+    # a subject's adjective that is a motion or a relation: "left-turning cars", "oncoming trucks"
+    (re.compile(rf"^((?:an? |the |all )?)(left|right)[- ]turning ({_NOUN})(?![\w-])"), r"\1\3 turning \2"),
+    (re.compile(rf"^((?:an? |the |all )?)lane[- ]changing ({_NOUN})(?![\w-])"), r"\1\2 changing lanes"),
+    (
+        re.compile(rf"^((?:an? |the |all )?)oncoming ({_NOUN})(?![\w-])"),
+        r"\1\2 travelling in the opposite direction to the ego vehicle",
+    ),
+    (re.compile(r"\bgetting closer to\b"), "closing in on"),
+)
+
+
+def _reworded(text: str) -> str:
+    """``text`` with :data:`_REWORDINGS` applied and a shared relation verb's object repeated.
+
+    "vehicles approaching and facing a stopped car" -> "vehicles approaching a stopped car facing
+    a stopped car", so each verb is read as its own relation.
+    """
+    for pattern, replacement in _REWORDINGS:
+        text = pattern.sub(replacement, text)
+    return _SHARED_VERB.sub(lambda m: f"{m['v1']} {m['obj']} {m['v2']} {m['obj']}", text)
