@@ -132,6 +132,10 @@ def test_the_subjects_words_decide_its_categories_as_the_phrase_rules_read_them(
             _plan("VEHICLE", conditions=[{**_cond("stopped"), "negated": True}]),
             "'stopped' cannot be negated",
         ),
+        (
+            _plan("VEHICLE", conditions=[{**_cond("any_of"), "any_of": [[_cond("turning")]]}]),
+            "'any_of' condition needs two alternatives",
+        ),
     ],
 )
 def test_a_plan_the_rules_cannot_express_names_the_part_at_fault(plan: dict[str, Any], message: str) -> None:

@@ -135,9 +135,7 @@ def plan_text(plan: dict[str, Any]) -> str:
         settings += f", {rel['argument']}" if rel.get("argument") else ""
         lines.append(f"- relation: {rel['function']}({rel['subject_words']}, {rel['other_words']}{settings})")
     for cond in plan.get("conditions", []):
-        arg = f", {cond['argument']}" if cond.get("argument") else ""
-        call = f"{cond['function']}({plan['subject_words']}{arg})"
-        lines.append(f"- condition: {'scenario_not(...) of ' if cond.get('negated') else ''}{call}")
+        lines.append(f"- condition: {_condition_text(cond, plan['subject_words'])}")
     for num in plan.get("numbers", []):
         lines.append(f"- number stated: {num['value']:g} {num['unit']} ({num['meaning']})")
     if plan.get("unread"):  # a partial reading by the phrase rules: say what it left out
@@ -145,6 +143,17 @@ def plan_text(plan: dict[str, Any]) -> str:
     if plan.get("assumed"):
         lines.append(f"- assumed from the words not read: {'; '.join(plan['assumed'])}")
     return "\n".join(lines)
+
+
+def _condition_text(cond: dict[str, Any], subject: str) -> str:
+    """One condition as shown: ``f(subject, settings)``, negated or one of several alternatives."""
+    if cond.get("any_of"):  # "either A or B" (phrase rules): each alternative, all of its parts
+        return " or ".join(
+            " and ".join(_condition_text(part, subject) for part in chain) for chain in cond["any_of"]
+        )
+    arg = f", {cond['argument']}" if cond.get("argument") else ""
+    call = f"{cond['function']}({subject}{arg})"
+    return f"{'scenario_not(...) of ' if cond.get('negated') else ''}{call}"
 
 
 def _categories_text(category: Any) -> str:

@@ -172,7 +172,12 @@ _ON_X = "on_intersection"
 _SPEEDING_UP = ("accelerating", "min_accel=1.0")
 _TURNING = ("turning", "direction='{dir}'")
 _BESIDE = "within_distance=5, lateral_thresh=2"
-_ALONG = "within_distance=25, lateral_thresh=1"
+#: "ahead of X", "behind X": the predicate's defaults (50 m, no lateral limit); "directly ahead"
+#: (``directly`` group) keeps to a corridor 1 m either side of X's path (``{lateral}``, see
+#: :func:`scenariominer.mine.plan_reader._apply`)
+_ALONG = "{lateral}"
+_GET_IN_DIRECTION = "get_objects_in_relative_direction"
+_DIRECTLY = r"(?P<directly>(?:directly|right|just|straight|immediately) )?"
 EGO = "the ego vehicle"
 #: ``implied``: the road user of the last relation read (the ego when there is none)
 LAST = "<last>"
@@ -196,26 +201,32 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?:with|having) (?:at least )?(?P<count>\d+)(?: or more)? {obj} within " + _DIST + _NO_SIDE,
         "near_objects", "distance_thresh={dist}, min_objects={count}",
     ),
+    # "with a pedestrian within 15 m", "having multiple cyclists within 5 m" (no side named)
+    Phrase(
+        _HAVE + " " + _QUANTITY + r"{obj} within " + _DIST + _NO_SIDE,
+        "near_objects",
+        "distance_thresh={dist}",
+    ),
     Phrase(r"within " + _DIST + " of " + _INTERSECTION, "near_intersection", "threshold={dist}"),
     Phrase(
         r"within " + _DIST + r" (?:ahead of|in front of) {obj}",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+        "get_objects_in_relative_direction", "within_distance={dist}, {lateral}", "forward",
     ),
     Phrase(
         r"within " + _DIST + r" (?:behind|in back of) {obj}",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+        "get_objects_in_relative_direction", "within_distance={dist}, {lateral}", "backward",
     ),
     Phrase(
         r"within " + _DIST + r" (?:to|on) the (?P<dir>left|right)(?: side)? of {obj}",
         "get_objects_in_relative_direction", "within_distance={dist}", "{dir}",
     ),
     Phrase(
-        r"(?:directly )?(?:ahead of|in front of) {obj} within " + _DIST,
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+        _DIRECTLY + r"(?:ahead of|in front of) {obj} within " + _DIST,
+        "get_objects_in_relative_direction", "within_distance={dist}, {lateral}", "forward",
     ),
     Phrase(
-        r"(?:directly )?(?:behind|in back of) {obj} within " + _DIST,
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+        _DIRECTLY + r"(?:behind|in back of) {obj} within " + _DIST,
+        "get_objects_in_relative_direction", "within_distance={dist}, {lateral}", "backward",
     ),
     Phrase(
         r"(?:directly )?(?:to|on) the (?P<dir>left|right)(?: side| hand side)? of {obj} within " + _DIST,
@@ -223,22 +234,22 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     # "with a pedestrian (directly) ahead of them within 10 m", "with 2 cyclists within 5 m behind it"
     Phrase(
-        _HAVE + " " + _QUANTITY + r"{obj} (?:(?:directly|right|just) )?(?:ahead|in front)(?: of (?:them|it))?"
+        _HAVE + " " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:ahead|in front)(?: of (?:them|it))?"
         r" within " + _DIST,
-        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+        "has_objects_in_relative_direction", "within_distance={dist}, {lateral}", "forward",
     ),
     Phrase(
         _HAVE + " " + _QUANTITY + r"{obj} within " + _DIST + r" (?:ahead|in front)(?: of (?:them|it))?",
-        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+        "has_objects_in_relative_direction", "within_distance={dist}, {lateral}", "forward",
     ),
     Phrase(
-        _HAVE + " " + _QUANTITY + r"{obj} (?:(?:directly|right|just) )?behind(?: (?:them|it))?"
+        _HAVE + " " + _QUANTITY + r"{obj} " + _DIRECTLY + r"behind(?: (?:them|it))?"
         r" within " + _DIST,
-        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+        "has_objects_in_relative_direction", "within_distance={dist}, {lateral}", "backward",
     ),
     Phrase(
         _HAVE + " " + _QUANTITY + r"{obj} within " + _DIST + r" behind(?: (?:them|it))?",
-        "has_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+        "has_objects_in_relative_direction", "within_distance={dist}, {lateral}", "backward",
     ),
     Phrase(
         _HAVE + " " + _QUANTITY + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)"
@@ -253,12 +264,12 @@ PHRASES: tuple[Phrase, ...] = (
     # a place with no road user named is the ego's ("within 50 meters ahead", "to the right")
     Phrase(
         r"within " + _DIST + r" (?:ahead|in front)(?! of)",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "forward",
+        "get_objects_in_relative_direction", "within_distance={dist}, {lateral}", "forward",
         implied=EGO,
     ),
     Phrase(
         r"within " + _DIST + r" (?:behind|in back)(?= ,|\s*$)",
-        "get_objects_in_relative_direction", "within_distance={dist}, lateral_thresh=1", "backward",
+        "get_objects_in_relative_direction", "within_distance={dist}, {lateral}", "backward",
         implied=EGO,
     ),
     Phrase(
@@ -409,24 +420,24 @@ PHRASES: tuple[Phrase, ...] = (
         _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )either side",
         "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"), any_side=True,
     ),
-    Phrase(_HAVE + r" " + _QUANTITY + r"{obj} (?:right |directly |just )?behind(?: them| it)?",
+    Phrase(_HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"behind(?: them| it)?",
             "has_objects_in_relative_direction",
             _ALONG, "backward"),
     Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} (?:in front|ahead)(?: of (?:them|it))?",
+        _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:in front|ahead)(?: of (?:them|it))?",
         "has_objects_in_relative_direction", _ALONG, "forward",
     ),
     Phrase(
         r"(?:towing|pulling) {obj}",
         "has_objects_in_relative_direction", "within_distance=2, lateral_thresh=0.5", "backward",
     ),
-    Phrase(r"(?:behind|in back of) {obj}", "get_objects_in_relative_direction", _ALONG, "backward"),
-    Phrase(r"(?:ahead of|in front of) {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
+    Phrase(_DIRECTLY + r"(?:behind|in back of) {obj}", _GET_IN_DIRECTION, _ALONG, "backward"),
+    Phrase(_DIRECTLY + r"(?:ahead of|in front of) {obj}", _GET_IN_DIRECTION, _ALONG, "forward"),
     Phrase(
         r"(?:crossing|walking across|running across)(?: the road| the street)? (?:ahead|in front)(?! of)",
         "being_crossed_by", direction="forward", reverse=True, implied=EGO,
     ),
-    Phrase(r"(?:directly |straight )?ahead(?! of)", "get_objects_in_relative_direction", _ALONG, "forward",
+    Phrase(_DIRECTLY + r"ahead(?! of)", "get_objects_in_relative_direction", _ALONG, "forward",
             implied=EGO),
     Phrase(
         r"(?:directly |immediately )?(?:to|on) either side of {obj}",
@@ -438,7 +449,8 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
     Phrase(r"(?:with|having) " + _QUANTITY + r"nearby {obj}", "near_objects", "distance_thresh=10"),
-    Phrase(r"in (?:the )?path of {obj}", "get_objects_in_relative_direction", _ALONG, "forward"),
+    # in X's path: ahead of X, within its width (1 m either side of its centre line)
+    Phrase(r"in (?:the )?path of {obj}", "get_objects_in_relative_direction", "lateral_thresh=1", "forward"),
     Phrase(r"(?:with|having) " + _QUANTITY + r"{obj} (?:nearby|close by|around)", "near_objects",
             "distance_thresh=10"),
     Phrase(

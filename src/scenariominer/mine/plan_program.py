@@ -46,7 +46,7 @@ from scenariominer.mine.plan_reader import one_or_many, subject_categories
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/7"
+PLAN_PROGRAM_VERSION = "plan-program/8"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -86,6 +86,10 @@ COMPOSITE_CONDITIONS: dict[str, str] = {
     "lateral_acceleration_either_way": "scenario_or([has_lateral_acceleration({t}, log_dir, "
     "min_accel={accel}), has_lateral_acceleration({t}, log_dir, max_accel=-{accel})])",
 }
+
+
+#: A condition holding when any of its alternatives does (``any_of``: lists of conditions).
+ANY_OF = "any_of"
 
 
 class PlanCompileError(ValueError):
@@ -364,6 +368,16 @@ def _condition_call(cond: Mapping[str, Any], target: str, notes: list[str]) -> s
     from scenariominer.mine.dsl import DSL_FUNCTIONS
 
     name = str(cond.get("function", ""))
+    if name == ANY_OF:  # "either A or B" (phrase rules only): each alternative a chain of conditions
+        alternatives = []
+        for chain in cond.get("any_of") or []:
+            expression = target
+            for part in chain:
+                expression = _condition_call(part, expression, notes)
+            alternatives.append(expression)
+        if len(alternatives) < 2 or cond.get("negated"):
+            raise PlanCompileError("an 'any_of' condition needs two alternatives and cannot be negated")
+        return f"scenario_or([{', '.join(alternatives)}])"
     if name in COMPOSITE_CONDITIONS:
         return _composite_call(name, cond, target)
     func = DSL_FUNCTIONS.get(name)

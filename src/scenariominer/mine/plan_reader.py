@@ -47,7 +47,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/8"
+PLAN_READER_VERSION = "plan-reader/9"
 
 
 @dataclass
@@ -137,7 +137,8 @@ def _alternation(patterns: Any) -> str:
 
 _CATEGORY_RE = _alternation(p for p, _ in CATEGORY_PHRASES)
 _MODIFIER_RE = _alternation(p for p, _, _ in MODIFIERS)
-_DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their)\s+)"
+#: Words before another road user that carry no condition ("a *lead* vehicle": the relation says it).
+_DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their|lead|leading|preceding)\s+)"
 _NOUN = rf"(?:{_CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{_CATEGORY_RE}))?"
 _NOUN_PHRASE = re.compile(rf"{_DETERMINER}*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})")
 _NP = rf"(?:(?:{_DETERMINER}*)(?:(?:{_MODIFIER_RE})\s+)*(?:{_NOUN}))"
@@ -203,7 +204,10 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
         groups["speed"] = str(_speed_mps(groups["value"], groups.get("unit")))
     if "low" in groups:  # "between 5 and 10 m/s": the unit stated once, after both
         groups["low_speed"] = str(_speed_mps(groups["low"], groups.get("unit")))
+    # "directly ahead": a corridor 1 m either side of the other road user's path; else no limit
+    groups["lateral"] = "lateral_thresh=1" if "directly" in groups else ""
     argument = phrase.argument.format(**groups) if phrase.argument else None
+    argument = ", ".join(a for a in (argument or "").split(", ") if a) or None
     if "multi" in groups or "qty" in groups:
         if phrase.function not in COUNT_KEYWORD:
             raise _Unread(found.group(0))  # a count this relation cannot take
@@ -314,10 +318,17 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
             # vehicle", "following a vehicle being overtaken") may describe that road user, not the
             # subject: the model reads it
             return None
+        added: list[list[dict[str, Any]]] = []  # the conditions each matched phrase added
         for pattern, phrase in _COMPILED:
             while (found := pattern.search(rest)) is not None:
+                before = list(reading.conditions)
                 _apply(phrase, reading, found)
-                rest = rest[: found.start()] + " , " + rest[found.end() :]
+                added.append([c for c in reading.conditions if all(c is not b for b in before)])
+                rest = f"{rest[: found.start()]} ,{_MARK}{len(added) - 1}{_MARK}, {rest[found.end() :]}"
+        rest = _join_alternatives(reading, rest, added)
+        if _ALTERNATIVES.search(rest):
+            raise _Unread("or")  # "near X or following Y": alternatives of relations, the model reads them
+        rest = _MARKER.sub("", rest)
         if group is not None:
             _as_group(reading, int(group.group("size") or _GROUP_SIZE))
         unread = skipped + [word for word in re.findall(r"[\w'/.-]+", rest) if word not in FILLERS]
@@ -337,6 +348,35 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         "read_by": "rules",
         **({"unread": unread, "assumed": reading.assumed} if partial else {}),
     }
+
+
+#: Where a matched phrase was (its index in the list of what each phrase added, between marks).
+_MARK = "\x00"
+_MARKER = re.compile(rf"{_MARK}\d+{_MARK}")
+#: Two phrases joined by "or" ("either turning or changing lanes"): their numbers.
+_ALTERNATIVES = re.compile(rf"(?:\beither\s+)?,{_MARK}(\d+){_MARK},\s+or\s+,{_MARK}(\d+){_MARK},")
+
+
+def _join_alternatives(reading: _Reading, rest: str, added: list[list[dict[str, Any]]]) -> str:
+    """Join the conditions of two phrases read with "(either) A or B" into one ``any_of`` condition.
+
+    Each alternative keeps its own conditions ("jaywalking" gives two, both required); a third
+    "or C" joins the result. Phrases that added a relation rather than a condition are left as
+    read, and the "or" then stays among the words not read. Returns ``rest`` without those words.
+    """
+    while True:
+        for found in _ALTERNATIVES.finditer(rest):
+            first, second = added[int(found.group(1))], added[int(found.group(2))]
+            if first and second:
+                break
+        else:
+            return rest
+        joined = {"function": "any_of", "negated": False, "argument": None, "any_of": [first, second]}
+        members = [*first, *second]
+        kept = [c for c in reading.conditions if all(c is not m for m in members[1:])]
+        reading.conditions[:] = [joined if c is members[0] else c for c in kept]
+        added.append([joined])
+        rest = f"{rest[: found.start()]},{_MARK}{len(added) - 1}{_MARK},{rest[found.end() :]}"
 
 
 def rules_plan(description: str, *, partial: bool) -> dict[str, Any] | None:
