@@ -208,6 +208,15 @@ def test_a_stated_number_wins_and_a_phrase_without_one_takes_the_predicates_defa
     )
 
 
+def test_a_relative_clause_agreeing_with_the_plural_subject_is_read_as_the_subjects() -> None:
+    program = _program("pedestrians within 15 m of the ego vehicle that are not at a crosswalk")
+    assert "scenario_not(at_pedestrian_crossing)(subject, log_dir)" in program
+    assert "near_objects(step_1, related_1, log_dir, distance_thresh=15)" in program
+    # after a plural road user, or with "is", the clause may be that road user's: the model reads it
+    assert read_plan("vehicles near pedestrians that are walking", partial=True) is None
+    assert read_plan("cars that are stopped near a bus that is turning", partial=True) is None
+
+
 def test_alternatives_of_relations_are_left_to_the_model_not_read_as_both() -> None:
     # "or" between two relations: read in part, it would require both
     assert read_plan("cars near a bus or following a truck", partial=True) is None

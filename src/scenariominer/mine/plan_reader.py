@@ -47,7 +47,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/9"
+PLAN_READER_VERSION = "plan-reader/10"
 
 
 @dataclass
@@ -192,6 +192,29 @@ _NEGATIONS = frozenset(
     | {"don't", "doesn't", "isn't", "aren't", "wasn't", "weren't", "won't", "cannot"}
 )
 
+#: A relative clause and what comes before it: "... the ego vehicle *that are* not ...".
+_RELATIVE_CLAUSE = re.compile(r"(?P<before>\S.*?)\s(?:who|which|that)\s(?P<verb>are|were|have)?")
+
+
+def _plural(words: str) -> bool:
+    last = words.split()[-1] if words.split() else ""
+    return last in {"people", "persons"} or (last.endswith("s") and not last.endswith(("ss", "us")))
+
+
+def _clause_after_other(rest: str, subject_words: str) -> bool:
+    """Whether a relative clause in ``rest`` may describe another road user than the subject.
+
+    "... a bicyclist who is to the left of a vehicle" may; "pedestrians within 15 m of the ego
+    vehicle that are not at a crosswalk" may not: "are" agrees with the plural subject, not with the
+    singular road user just before it, so the clause reads as the subject's.
+    """
+    for found in _RELATIVE_CLAUSE.finditer(rest):
+        before = found.group("before").split()
+        if not found.group("verb") or not _plural(subject_words) or (before and _plural(before[-1])):
+            return True
+    return False
+
+
 _BEING_AFTER_OBJECT = re.compile(rf"(?<![\w-]){_NP} (?:is )?being(?![\w-])")
 
 
@@ -313,7 +336,7 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         )
         reading.conditions.extend(_modifier_conditions(subject.group("mods")))
         rest = " " + text[subject.end() :] + " "
-        if re.search(r"\S.*\b(?:who|which|that)\b", rest) or _BEING_AFTER_OBJECT.search(rest):
+        if _clause_after_other(rest, reading.subject_words) or _BEING_AFTER_OBJECT.search(rest):
             # a relative clause after another road user ("... a bicyclist who is to the left of a
             # vehicle", "following a vehicle being overtaken") may describe that road user, not the
             # subject: the model reads it
