@@ -56,7 +56,9 @@ def _referred(description: str) -> set[str]:
         # every lane; "directly" keeps to X's path (1 m either side)
         ("vehicles behind the ego vehicle", {"changer", "overtaker", "bus", "parked", "oncoming"}),
         ("vehicles directly behind the ego vehicle", {"changer"}),  # 20 m behind in its lane
-        ("vehicles with a bike on their right side", {"ego"}),  # the bike rides 3.6 m to its right
+        # "to its right", no distance: the predicate's default (RefAV's), within 50 m on that side
+        ("vehicles with a bike on their right side", {"ego", "lead", "changer", "overtaker", "turner"}),
+        ("vehicles with a bike on their right side within 4 m", {"ego"}),  # the bike rides 3.6 m aside
         # phrases read from the published descriptions' dev part (session 11)
         ("cars within 30 meters ahead of the ego vehicle", {"lead", "parked", "overtaker", "oncoming"}),
         ("cars directly ahead of the ego vehicle within 30 meters", {"lead"}),  # parked: 7.2 m aside
@@ -69,7 +71,7 @@ def _referred(description: str) -> set[str]:
         ("the ego vehicle being overtaken by a car", {"ego"}),
         ("the ego vehicle being overtaken on the right by a car", set()),
         # either side: the relation on the left or on the right
-        ("cars to either side of the ego vehicle", {"overtaker", "parked", "oncoming"}),
+        ("cars to either side of the ego vehicle", {"overtaker", "parked", "oncoming", "changer", "turner"}),
         ("cars within 5 meters to either side of the ego vehicle", {"overtaker"}),  # the others: 7.2 m
         ("the ego vehicle with a bike on either side", {"ego"}),
         # a group: members with enough others of the group close by (pedA and pedB stand 1 m apart)
@@ -198,7 +200,9 @@ def test_a_stated_number_wins_and_a_phrase_without_one_takes_the_predicates_defa
     assert "heading_toward(subject, related_1, log_dir)\n" in _program(
         "pedestrians moving toward the ego vehicle"
     )
-    assert "max_distance=30" in _program("vehicles approaching the ego vehicle")  # "approaching": nearby
+    assert "heading_toward(subject, related_1, log_dir)\n" in _program("vehicles approaching the ego vehicle")
+    assert "near_intersection(subject, log_dir)\n" in _program("box trucks near an intersection")
+    assert "has_velocity(subject, log_dir, max_velocity=4.47)" in _program("cars slower than 10 mph")
     program = _program("buses with 2 cars within 20 m behind them")
     assert "direction='backward', within_distance=20, min_number=2" in program
     assert "near_objects" in _program("buses with 2 cars within 20 m")

@@ -98,7 +98,7 @@ MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
     (r"stopped|halted", *STOPPED_OR_PARKED),
     (r"fast|speeding|fast-moving", "has_velocity", "min_velocity=10"),
     (r"turning", "turning", None),
-    (r"accelerating", "accelerating", "min_accel=1.0"),
+    (r"accelerating", "accelerating", None),
     (r"braking|decelerating", "accelerating", "min_accel=-inf, max_accel=-1.0"),
 )
 
@@ -160,7 +160,9 @@ _MORE_THAN = (
     r"(?:more than|over|faster than|harder than|stronger than|greater than|above|at least|exceeding"
     r"|in excess of|beyond|by more than|of more than)"
 )
-_LATERAL = r"(?:an? )?lateral acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL
+_LATERAL_FN = "has_lateral_acceleration"
+_LATERAL_ONLY = r"lateral acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL
+_LATERAL = r"(?:an? )?" + _LATERAL_ONLY
 _SWERVE = r"(?:(?:swerving|veering|weaving|jerking sideways) )?(?:(?:with|having|at|showing) )?"
 _SWERVING = r"(?:swerving|veering|weaving)"
 _TOWARD_SIDE = r"(?:to(?:ward)? (?:the |its |their )?)?"
@@ -169,7 +171,7 @@ _IN_LANE = (
     r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking)) (?:a |the )?"
 )
 _ON_X = "on_intersection"
-_SPEEDING_UP = ("accelerating", "min_accel=1.0")
+_SPEEDING_UP = ("accelerating", None)
 _TURNING = ("turning", "direction='{dir}'")
 _BESIDE = "within_distance=5, lateral_thresh=2"
 #: "ahead of X", "behind X": the predicate's defaults (50 m, no lateral limit); "directly ahead"
@@ -284,7 +286,7 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) "
         + _DIST + "(?: away)?",
-        "facing_toward", "within_angle=30, max_distance={dist}",
+        "facing_toward", "max_distance={dist}",
     ),
     Phrase(
         r"within " + _DIST + r" (?:on|to) either side of {obj}",
@@ -303,6 +305,8 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_HAVE + r" (?:a )?deceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel=-inf, max_accel=-{accel}"),
     # a lateral acceleration toward one side, or of either sign ("swerving", "either way")
+    Phrase(_SWERVE + r"(?:an? )?left(?:ward)? " + _LATERAL_ONLY, _LATERAL_FN, "min_accel={accel}"),
+    Phrase(_SWERVE + r"(?:an? )?right(?:ward)? " + _LATERAL_ONLY, _LATERAL_FN, "max_accel=-{accel}"),
     Phrase(_SWERVE + _LATERAL + r" (?:to(?:ward)? (?:the |its |their )?left|leftwards?)",
             "has_lateral_acceleration", "min_accel={accel}"),
     Phrase(_SWERVE + _LATERAL + r" (?:to(?:ward)? (?:the |its |their )?right|rightwards?)",
@@ -325,7 +329,7 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         _GOING + r"(?:at |with )?(?:an? )?(?:speeds?|velocit(?:y|ies)) (?:of )?(?:less than|below|under"
         r"|lower than|at most) " + _SPEED,
-        "has_velocity", "min_velocity=0, max_velocity={speed}",
+        "has_velocity", "max_velocity={speed}",
     ),
     Phrase(
         _GOING + r"(?:faster than|above|over|at more than|exceeding|at over) " + _SPEED,
@@ -333,7 +337,7 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(
         _GOING + r"(?:slower than|below|under|at less than) " + _SPEED,
-        "has_velocity", "min_velocity=0, max_velocity={speed}",
+        "has_velocity", "max_velocity={speed}",
     ),
     # relations to other road users
     Phrase(
@@ -370,7 +374,7 @@ PHRASES: tuple[Phrase, ...] = (
             r"(?: too closely| closely)?", "following"),
     Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
     Phrase(r"(?:in (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
-    Phrase(r"(?:approaching|closing in on) {obj}", "heading_toward", "max_distance=30"),
+    Phrase(r"(?:approaching|closing in on) {obj}", "heading_toward"),
     # "moving toward X" states no distance: the predicate's own (any distance)
     Phrase(
         r"(?:heading|moving|driving|going|walking|running|riding|travell?ing|cycling)"
@@ -379,7 +383,7 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(
         r"(?:(?:directly )?facing(?: towards?)?|looking (?:towards?|at)|turned towards?) {obj}",
-        "facing_toward", "within_angle=30, max_distance=20",
+        "facing_toward",
     ),
     Phrase(
         r"on the (?:other|opposite) side of the road(?: from| to| than)? {obj}",
@@ -414,11 +418,11 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         _HAVE + r" " + _QUANTITY
         + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
-        "has_objects_in_relative_direction", _BESIDE, "{dir}",
+        "has_objects_in_relative_direction", None, "{dir}",
     ),
     Phrase(
         _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )either side",
-        "has_objects_in_relative_direction", _BESIDE, sides=("left", "right"), any_side=True,
+        "has_objects_in_relative_direction", sides=("left", "right"), any_side=True,
     ),
     Phrase(_HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"behind(?: them| it)?",
             "has_objects_in_relative_direction",
@@ -441,11 +445,11 @@ PHRASES: tuple[Phrase, ...] = (
             implied=EGO),
     Phrase(
         r"(?:directly |immediately )?(?:to|on) either side of {obj}",
-        "get_objects_in_relative_direction", "within_distance=10", sides=("left", "right"), any_side=True,
+        "get_objects_in_relative_direction", sides=("left", "right"), any_side=True,
     ),
     Phrase(
         r"(?:directly |immediately )?(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
-        "get_objects_in_relative_direction", "within_distance=10", "{dir}",
+        "get_objects_in_relative_direction", None, "{dir}",
     ),
     Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
     Phrase(r"(?:with|having) " + _QUANTITY + r"nearby {obj}", "near_objects", "distance_thresh=10"),
@@ -467,7 +471,7 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(_IN_LANE + r"bus lanes?", "on_lane_type", "lane_type='BUS'"),
     Phrase(_IN_LANE + r"(?:vehicle|car|traffic|driving) lanes?", "on_lane_type", "lane_type='VEHICLE'"),
-    Phrase(_NEAR + " " + _INTERSECTION, "near_intersection", "threshold=15"),
+    Phrase(_NEAR + " " + _INTERSECTION, "near_intersection"),
     Phrase(
         r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
     ),

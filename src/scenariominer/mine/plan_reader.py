@@ -47,7 +47,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/10"
+PLAN_READER_VERSION = "plan-reader/11"
 
 
 @dataclass
@@ -477,6 +477,14 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str], ...] = (
         r"\1\2 travelling in the opposite direction to the ego vehicle",
     ),
     (re.compile(r"\bgetting closer to\b"), "closing in on"),
+    # "less than 10 m ahead": within 10 m (not "less than 10 m/s")
+    (
+        re.compile(
+            r"\b(?:less than|under|no more than|at most|closer than) (\d+(?:\.\d+)?) ?"
+            r"(m|meters?|metres?)(?![\w/])"
+        ),
+        r"within \1 \2",
+    ),
 )
 
 
