@@ -74,12 +74,12 @@ def test_the_set_loads_with_enough_entries_in_every_split() -> None:
     dev, holdout = load_eval_set("dev"), load_eval_set("holdout")
     published, challenge = load_eval_set("published"), load_eval_set("challenge")
     assert len(dev) + len(holdout) >= 60
-    fresh, fresh2, fresh3 = load_eval_set("fresh"), load_eval_set("fresh2"), load_eval_set("fresh3")
+    fresh = [load_eval_set(split) for split in ("fresh", "fresh2", "fresh3", "fresh4")]
     ours, theirs = len(dev) + len(holdout), len(published) + len(challenge)
-    assert ours + theirs + len(fresh) + len(fresh2) + len(fresh3) == len(ENTRIES)
+    assert ours + theirs + sum(len(split) for split in fresh) == len(ENTRIES)
     assert 0.28 <= len(holdout) / (len(dev) + len(holdout)) <= 0.4  # about a third of our own wording
-    assert len(published) >= 30 and len(challenge) >= 30 and len(fresh) >= 20 and len(fresh2) >= 20
-    assert len(fresh3) >= 15
+    assert len(published) >= 30 and len(challenge) >= 30
+    assert all(len(split) >= 15 for split in fresh)
     assert set(HELD_OUT_SPLITS) == set(SPLITS) - {"dev"}
     assert all(e.program.rstrip().splitlines()[-1].startswith("output_scenario(") for e in ENTRIES)
     assert load_eval_set("all") == ENTRIES

@@ -120,6 +120,16 @@ def _referred(description: str) -> set[str]:
         ("cars that are either turning or changing lanes", {"turner", "changer"}),
         ("cars turning right or changing lanes to the left", {"turner", "changer"}),
         ("the ego vehicle following a lead vehicle", {"ego"}),  # "lead" names no condition
+        # after the fresh4 run: a side with a stated lateral acceleration, a definition after a
+        # colon, perpendicular travel, "on their left", a side of the road with no one named
+        ("cars swerving to the left with a lateral acceleration above 2 m/s^2", {"changer"}),
+        ("cross traffic: cars moving perpendicular to the ego vehicle", {"turner"}),  # after its turn
+        ("cars moving at right angles to the ego vehicle", {"turner"}),
+        ("vehicles being overtaken on their left by a car", {"ego"}),
+        (
+            "cars travelling in the same direction as the ego vehicle on the same side of the road",
+            {"lead", "overtaker", "changer"},
+        ),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -219,6 +229,12 @@ def test_a_relative_clause_agreeing_with_the_plural_subject_is_read_as_the_subje
     # after a plural road user, or with "is", the clause may be that road user's: the model reads it
     assert read_plan("vehicles near pedestrians that are walking", partial=True) is None
     assert read_plan("cars that are stopped near a bus that is turning", partial=True) is None
+
+
+def test_examples_after_the_description_are_not_read() -> None:
+    program = _program("moving vehicles that are not on a road, e.g. in a parking lot or driveway")
+    assert "has_velocity(subject, log_dir, min_velocity=0.5)" in program
+    assert "scenario_not(on_road)(step_1, log_dir)" in program
 
 
 def test_alternatives_of_relations_are_left_to_the_model_not_read_as_both() -> None:

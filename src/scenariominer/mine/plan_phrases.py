@@ -164,6 +164,7 @@ _LATERAL_FN = "has_lateral_acceleration"
 _LATERAL_ONLY = r"lateral acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL
 _LATERAL = r"(?:an? )?" + _LATERAL_ONLY
 _SWERVE = r"(?:(?:swerving|veering|weaving|jerking sideways) )?(?:(?:with|having|at|showing) )?"
+_LEFT_ACCEL, _RIGHT_ACCEL = "min_accel={accel}", "max_accel=-{accel}"
 _SWERVING = r"(?:swerving|veering|weaving)"
 _TOWARD_SIDE = r"(?:to(?:ward)? (?:the |its |their )?)?"
 _NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
@@ -305,6 +306,8 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_HAVE + r" (?:a )?deceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel=-inf, max_accel=-{accel}"),
     # a lateral acceleration toward one side, or of either sign ("swerving", "either way")
+    Phrase(_SWERVING + " " + _TOWARD_SIDE + r"left (?:with |at )" + _LATERAL, _LATERAL_FN, _LEFT_ACCEL),
+    Phrase(_SWERVING + " " + _TOWARD_SIDE + r"right (?:with |at )" + _LATERAL, _LATERAL_FN, _RIGHT_ACCEL),
     Phrase(_SWERVE + r"(?:an? )?left(?:ward)? " + _LATERAL_ONLY, _LATERAL_FN, "min_accel={accel}"),
     Phrase(_SWERVE + r"(?:an? )?right(?:ward)? " + _LATERAL_ONLY, _LATERAL_FN, "max_accel=-{accel}"),
     Phrase(_SWERVE + _LATERAL + r" (?:to(?:ward)? (?:the |its |their )?left|leftwards?)",
@@ -355,11 +358,12 @@ PHRASES: tuple[Phrase, ...] = (
             "in_direction='counterclockwise', forward_thresh=4", "right", reverse=True),
     Phrase(r"(?:overtaking|passing) {obj}(?: on the left)?", "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", reverse=True),
-    Phrase(r"being (?:overtaken|passed) on the right by {obj}", "being_crossed_by",
+    Phrase(r"being (?:overtaken|passed) on (?:the|their|its) right(?: side)? by {obj}", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
     Phrase(r"being (?:overtaken|passed) by {obj} on the right", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
-    Phrase(r"being (?:overtaken|passed) (?:on the left )?by {obj}(?: on the left)?", "being_crossed_by",
+    Phrase(r"being (?:overtaken|passed) (?:on (?:the|their|its) left(?: side)? )?by {obj}(?: on the left)?",
+           "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left"),
     # ... by a vehicle, when the overtaker is not named
     Phrase(r"(?:being |getting )?(?:overtaken|passed) (?:on|from) (?:the )?right", "being_crossed_by",
@@ -394,6 +398,11 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?:travell?ing|heading|driving|moving|going|riding) (?:in (?:the )?)?(?P<dir>same|opposite)"
         r"(?: direction)? (?:as|to) {obj}",
         "heading_in_relative_direction_to", direction="{dir}",
+    ),
+    Phrase(
+        r"(?:(?:travell?ing|heading|driving|moving|going|riding) )?(?:perpendicular|at (?:a )?right angles?)"
+        r" to {obj}",
+        "heading_in_relative_direction_to", direction="perpendicular",
     ),
     Phrase(
         _HAVE + r" " + _QUANTITY + r"{obj} (?:(?:on |to )(?:both )?(?:their |its |the )?left and right"
@@ -488,15 +497,20 @@ PHRASES: tuple[Phrase, ...] = (
         r" the drivable (?:area|surface|space|region|road surface)",
         "in_drivable_area",
     ),
-    Phrase(r"(?P<neg>off the (?:road|street)|not on the (?:road|street))", "on_road"),
+    Phrase(r"(?P<neg>off (?:the |a )?(?:road|street)|not on (?:the |a )?(?:road|street))", "on_road"),
     Phrase(
         r"(?P<neg>outside|off|not (?:on|in)) the drivable (?:area|surface|space|region)", "in_drivable_area"
     ),
     Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
-    Phrase(r"(?:on|in) (?:the )?(?:road|street|roadway|carriageway)", "on_road"),
+    Phrase(r"(?:on|in) (?:the |a )?(?:road|street|roadway|carriageway)", "on_road"),
     Phrase(r"in traffic", None),
     # "ahead of the ego in the same lane": the lane of the road user the description last named
     Phrase(r"in (?:the )?same lane(?! as)", "in_same_lane", implied=LAST),
+    Phrase(r"on the same side of the road(?! as)", "on_relative_side_of_road", "side='same'", implied=LAST),
+    Phrase(
+        r"on the (?:other|opposite) side of the road(?! from| to| than)",
+        "on_relative_side_of_road", "side='opposite'", implied=LAST,
+    ),
     Phrase(r"jaywalking", "jaywalking"),
     # bare relations (after the map phrases)
     Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",

@@ -47,7 +47,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/11"
+PLAN_READER_VERSION = "plan-reader/12"
 
 
 @dataclass
@@ -445,6 +445,12 @@ def _normalised_text(description: str) -> str:
     cars back from X".
     """
     text = " ".join(description.lower().replace(",", " ").split()).rstrip(".!")
+    # examples after the description add nothing to read ("..., e.g. in a parking lot")
+    text = re.sub(r"\s*\(?\b(?:e\.g\.?|i\.e\.?|for example|for instance|such as)(?:\s.*)?$", "", text)
+    # "cross traffic: vehicles moving perpendicular to the ego": the definition after the colon
+    _, colon, definition = text.partition(": ")
+    if colon and _SUBJECT.match(definition):
+        text = definition
     text = re.sub(r"\bego-(vehicle|car)\b", r"ego \1", text)
     text = re.sub(r"\b(" + "|".join(WORD_NUMBERS) + r")\b", lambda m: WORD_NUMBERS[m.group(1)], text)
     text = re.sub(
