@@ -1,10 +1,11 @@
 """The phrase tables of the description reader (:mod:`scenariominer.mine.plan_reader`).
 
-Each table maps English phrasing to the mining predicates, with the settings the predicates'
-docstrings and the evaluation set's dev part use for each phrase: road users
-(:data:`CATEGORY_PHRASES`), their adjectives (:data:`MODIFIERS`) and the phrases after the subject
-(:data:`PHRASES`: motions, places on the map, relations to other road users). Pure data: the
-reader compiles the patterns and applies them.
+Each table maps English phrasing to the mining predicates: road users (:data:`CATEGORY_PHRASES`),
+their adjectives (:data:`MODIFIERS`) and the phrases after the subject (:data:`PHRASES`: motions,
+places on the map, relations to other road users). A stated number is used in the predicate's
+unit; a phrase without one takes the predicate's default (RefAV's), unless the phrase itself says
+how much ("fast" 10 m/s, "close to" 5 m, "braking hard" -3 m/s^2, "directly ahead" 1 m aside).
+Pure data: the reader compiles the patterns and applies them.
 """
 
 from __future__ import annotations
@@ -125,7 +126,9 @@ class Phrase:
 
     ``{obj}`` in the pattern stands for the other road users (the phrase is then a relation to
     them); ``{name}`` in ``argument``/``direction`` is filled from the pattern's named group
-    (``{speed}`` from ``value`` and ``unit``, in m/s); a ``neg`` group negates a condition.
+    (``{speed}`` from ``value`` and ``unit``, in m/s; ``{low_speed}`` from ``low``; ``{lateral}``
+    is ``lateral_thresh=1`` when a ``directly`` group matched, else nothing); a ``neg`` group
+    negates a condition.
     """
 
     pattern: str
