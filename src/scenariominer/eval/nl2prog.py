@@ -112,6 +112,7 @@ SPLITS: tuple[str, ...] = (
     "fresh3",
     "fresh4",
     "fresh5",
+    "fresh6",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
@@ -124,6 +125,7 @@ HELD_OUT_SPLITS: tuple[str, ...] = (
     "fresh3",
     "fresh4",
     "fresh5",
+    "fresh6",
 )
 
 #: Family tags an entry may carry (what its description exercises); the set covers every one.
