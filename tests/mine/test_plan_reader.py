@@ -125,6 +125,10 @@ def _referred(description: str) -> set[str]:
         ("cars swerving to the left with a lateral acceleration above 2 m/s^2", {"changer"}),
         ("cross traffic: cars moving perpendicular to the ego vehicle", {"turner"}),  # after its turn
         ("cars moving at right angles to the ego vehicle", {"turner"}),
+        # after the fresh6 run: the side named before the number, "sharing the ego's lane"
+        ("cars with a lateral acceleration to the left above 2 m/s^2", {"changer"}),
+        ("cars with a lateral acceleration to the right of more than 2 m/s^2", {"turner", "changer"}),
+        ("cars sharing the ego's lane", {"lead", "changer"}),
         ("vehicles being overtaken on their left by a car", {"ego"}),
         (
             "cars travelling in the same direction as the ego vehicle on the same side of the road",

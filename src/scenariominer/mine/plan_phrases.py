@@ -168,6 +168,9 @@ _LATERAL_ONLY = r"lateral acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL
 _LATERAL = r"(?:an? )?" + _LATERAL_ONLY
 _SWERVE = r"(?:(?:swerving|veering|weaving|jerking sideways) )?(?:(?:with|having|at|showing) )?"
 _LEFT_ACCEL, _RIGHT_ACCEL = "min_accel={accel}", "max_accel=-{accel}"
+#: "a lateral acceleration to the left above 2 m/s^2": the side named before the number
+_SIDE_FIRST = r"(?:an? )?lateral acceleration (?:to(?:ward)? (?:the |its |their )?)?"
+_ABOVE_ACCEL = r" (?:of )?" + _MORE_THAN + " " + _ACCEL
 _SWERVING = r"(?:swerving|veering|weaving)"
 _TOWARD_SIDE = r"(?:to(?:ward)? (?:the |its |their )?)?"
 _NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
@@ -311,6 +314,8 @@ PHRASES: tuple[Phrase, ...] = (
     # a lateral acceleration toward one side, or of either sign ("swerving", "either way")
     Phrase(_SWERVING + " " + _TOWARD_SIDE + r"left (?:with |at )" + _LATERAL, _LATERAL_FN, _LEFT_ACCEL),
     Phrase(_SWERVING + " " + _TOWARD_SIDE + r"right (?:with |at )" + _LATERAL, _LATERAL_FN, _RIGHT_ACCEL),
+    Phrase(_SWERVE + _SIDE_FIRST + "left" + _ABOVE_ACCEL, _LATERAL_FN, _LEFT_ACCEL),
+    Phrase(_SWERVE + _SIDE_FIRST + "right" + _ABOVE_ACCEL, _LATERAL_FN, _RIGHT_ACCEL),
     Phrase(_SWERVE + r"(?:an? )?left(?:ward)? " + _LATERAL_ONLY, _LATERAL_FN, "min_accel={accel}"),
     Phrase(_SWERVE + r"(?:an? )?right(?:ward)? " + _LATERAL_ONLY, _LATERAL_FN, "max_accel=-{accel}"),
     Phrase(_SWERVE + _LATERAL + r" (?:to(?:ward)? (?:the |its |their )?left|leftwards?)",
@@ -380,7 +385,7 @@ PHRASES: tuple[Phrase, ...] = (
             r"|driving behind) {obj}"
             r"(?: too closely| closely)?", "following"),
     Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
-    Phrase(r"(?:in (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
+    Phrase(r"(?:(?:in|sharing) (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
     Phrase(r"(?:approaching|closing in on) {obj}", "heading_toward"),
     # "moving toward X" states no distance: the predicate's own (any distance)
     Phrase(
