@@ -405,9 +405,10 @@ def _composite_call(name: str, cond: Mapping[str, Any], target: str) -> str:
             values[match.group(1)] = value
         elif piece.strip():
             raise PlanCompileError(f"condition {name!r}: {piece.strip()!r} is not one of its settings")
-    if cond.get("negated") or wanted - values.keys():
-        missing = ", ".join(sorted(wanted - values.keys())) or "no setting"
-        raise PlanCompileError(f"condition {name!r} cannot be negated and needs {missing}")
+    if cond.get("negated"):
+        raise PlanCompileError(f"condition {name!r} cannot be negated")
+    if missing := sorted(wanted - values.keys()):
+        raise PlanCompileError(f"condition {name!r} needs {', '.join(missing)}")
     return template.format(t=target, **values)
 
 
