@@ -400,7 +400,8 @@ def nl2prog(
         typer.Option(
             "--split",
             help="Descriptions to score: holdout, published (RefAV's wording, held out), challenge "
-            "(the AV2 2025 challenge's wording, held out), fresh (written last, held out), dev or all.",
+            "(the AV2 2025 challenge's wording, held out), fresh ... fresh6 (others' wording, each held "
+            "out and scored once), dev or all.",
         ),
     ] = "holdout",
     limit: Annotated[
