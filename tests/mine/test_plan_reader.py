@@ -134,6 +134,20 @@ def _referred(description: str) -> set[str]:
             "cars travelling in the same direction as the ego vehicle on the same side of the road",
             {"lead", "overtaker", "changer"},
         ),
+        # session 17 (plan-reader/14): "slow" (0.5-5 m/s unless a speed is stated), "fast", going
+        # straight, a direction of travel or the oncoming lane with no one named (the ego's),
+        # crossing the street with no one named (on the road and moving), "us", pulling away
+        ("slow cars", {"turner"}),  # 5 m/s; the others 10-15 m/s or parked
+        ("slow vehicles under 30 km/h", {"turner", "bus"}),  # the bus starts at 5 m/s
+        ("cars driving fast", {"lead", "changer", "oncoming", "overtaker"}),  # 10 m/s and more
+        ("cars driving straight through an intersection", {"turner"}),  # before its turn begins
+        ("cars travelling in the opposite direction", {"oncoming", "parked"}),
+        ("cars in the oncoming lane", {"oncoming", "parked"}),
+        ("pedestrians crossing the street", {"ped"}),  # pedA and pedB stand off the road
+        ("vehicles in front of us", {"lead", "overtaker", "parked", "turner", "oncoming"}),
+        ("the AV following a car", {"ego"}),
+        ("buses pulling away from a stop", {"bus"}),  # accelerating at 1.5 m/s^2
+        ("vehicles that have a pedestrian crossing their path", {"lead"}),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -155,6 +169,26 @@ def test_a_read_description_finds_the_objects_it_describes(description: str, exp
 )
 def test_a_description_with_any_unknown_word_is_left_to_the_model(description: str) -> None:
     assert read_plan(description) is None
+
+
+def test_a_stated_speed_replaces_the_speed_of_slow() -> None:
+    assert "max_velocity=5" in _program("slow trucks")
+    program = _program("slow cars under 30 km/h")
+    assert "max_velocity=8.33" in program and "max_velocity=5" not in program
+
+
+def test_a_manoeuvre_with_no_road_user_named_is_a_vehicles() -> None:
+    program = _program("hard braking, deceleration stronger than 3 m/s^2")
+    assert "category='VEHICLE'" in program and "max_accel=-3" in program
+    assert "category='REGULAR_VEHICLE'" in _program("hard braking cars")  # the subject named
+
+
+def test_a_cut_in_is_a_crossing_of_the_line_ahead_of_the_one_cut_off() -> None:
+    program = _program("cars cutting in front of the ego vehicle")
+    crossing = "reverse_relationship(being_crossed_by)(related_1, subject, log_dir, direction='forward')"
+    assert crossing in program
+    merging = _program("a car merging into the ego lane")
+    assert "changing_lanes(" in merging and "in_same_lane(" in merging
 
 
 def test_a_stated_count_of_the_other_road_users_goes_to_the_relation_that_takes_it() -> None:

@@ -17,10 +17,12 @@ __all__ = [
     "COUNT_KEYWORD",
     "EGO",
     "FILLERS",
+    "HARD_BRAKING",
     "LAST",
     "MODIFIERS",
     "ORDINALS",
     "PHRASES",
+    "SLOW",
     "TO_MPS",
     "WORD_NUMBERS",
     "Phrase",
@@ -30,6 +32,7 @@ __all__ = [
 CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:the )?ego(?: vehicle| car)?|(?:the )?self[- ]driving (?:car|vehicle)", ("EGO_VEHICLE",)),
     (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
+    (r"(?:the )?(?:av|autonomous (?:car|vehicle)|test vehicle)", ("EGO_VEHICLE",)),
     (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
     (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
     (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
@@ -77,7 +80,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:construction )?barrels?", ("CONSTRUCTION_BARREL",)),
     (r"stop signs?", ("STOP_SIGN",)),
     (r"signs?", ("SIGN",)),
-    (r"objects?|things?|anything|everything|road users?|actors?|agents?", ("ANY",)),
+    (r"objects?|things?|anything|something|everything|road users?|actors?|agents?", ("ANY",)),
     # last: "traffic" begins other road users' names ("traffic cone", "traffic officer")
     (r"traffic", ("VEHICLE",)),
 )
@@ -89,17 +92,23 @@ STOPPED = ("has_velocity", "min_velocity=0, max_velocity=0.5")
 #: ground truth of "stopped car" refers to the parked cars too); compiled by
 #: :mod:`scenariominer.mine.plan_program` as ``stationary`` or ``has_velocity(<= 0.5 m/s)``.
 STOPPED_OR_PARKED = ("stopped", None)
+#: "slow": moving, below 5 m/s (18 km/h); a stated upper speed replaces the 5 m/s
+#: (:func:`scenariominer.mine.plan_reader.read_plan`, "slow cars under 30 km/h").
+SLOW = ("has_velocity", "min_velocity=0.5, max_velocity=5")
+HARD_BRAKING = ("accelerating", "min_accel=-inf, max_accel=-3.0")
 
 #: Adjectives before a road user: (pattern, condition function, argument).
 MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
     (r"moving", *MOVING),
-    (r"parked|stationary", "stationary", None),
+    (r"parked|stationary|double[- ]parked", "stationary", None),
     (r"active|non-stationary", "not stationary", None),
     (r"jaywalking", "jaywalking", None),
     (r"stopped|halted", *STOPPED_OR_PARKED),
     (r"fast|speeding|fast-moving", "has_velocity", "min_velocity=10"),
+    (r"slow|slow-moving|slowly moving", *SLOW),
     (r"turning", "turning", None),
     (r"accelerating", "accelerating", None),
+    (r"hard[- ]braking|heavily braking|emergency[- ]braking", *HARD_BRAKING),
     (r"braking|decelerating", "accelerating", "min_accel=-inf, max_accel=-1.0"),
 )
 
@@ -164,6 +173,8 @@ _MORE_THAN = (
     r"|in excess of|beyond|by more than|of more than)"
 )
 _LATERAL_FN = "has_lateral_acceleration"
+#: not the end of "lateral acceleration" (read by its own phrases)
+_NOT_SIDEWAYS = r"(?<!lateral )(?<!sideways )"
 _LATERAL_ONLY = r"lateral acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL
 _LATERAL = r"(?:an? )?" + _LATERAL_ONLY
 _SWERVE = r"(?:(?:swerving|veering|weaving|jerking sideways) )?(?:(?:with|having|at|showing) )?"
@@ -201,6 +212,22 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_IN_LINE_BEHIND + r" (?:(?:of|from) )?{obj}", "in_line", "rank={rank}", "backward"),
     Phrase(_IN_LINE_AHEAD, "in_line", "rank={rank}", "forward", implied=EGO),
     Phrase(_IN_LINE_BEHIND, "in_line", "rank={rank}", "backward", implied=EGO),
+    # "going straight (ahead)": not turning (before the bare "ahead", a relation to the ego)
+    Phrase(
+        r"(?P<neg>(?:going|driving|continuing|heading|travell?ing|moving|proceeding|riding) straight)"
+        r"(?: ahead| on)?(?! (?:at|towards?|for) )",
+        "turning",
+    ),
+    # a direction of travel with no one named: the ego's ("vehicles in the opposite direction")
+    Phrase(
+        r"(?:(?:travell?ing|heading|driving|moving|going|riding) )?in (?:the )?(?P<dir>same|opposite)"
+        r" direction(?! (?:as|to|of) )",
+        "heading_in_relative_direction_to", direction="{dir}", implied=EGO,
+    ),
+    Phrase(
+        r"(?:(?:travell?ing|driving|moving|coming) )?in (?:the )?oncoming (?:lanes?|traffic)",
+        "heading_in_relative_direction_to", direction="opposite", implied=EGO,
+    ),
     # stated numbers first, so "within 5 m of X" is not read as a bare relation
     Phrase(
         r"surrounded by (?P<count>\d+) or more {obj} within " + _DIST,
@@ -305,11 +332,11 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
     Phrase(r"accelerating (?:at )?" + _MORE_THAN + " " + _ACCEL, "accelerating", "min_accel={accel}"),
-    Phrase(_HAVE + r" (?:an )?acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
+    Phrase(_NOT_SIDEWAYS + r"(?:" + _HAVE + r" )?(?:an )?acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel={accel}"),
     Phrase(r"(?:decelerating|braking|slowing(?: down)?) (?:at )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel=-inf, max_accel=-{accel}"),
-    Phrase(_HAVE + r" (?:a )?deceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
+    Phrase(_NOT_SIDEWAYS + r"(?:" + _HAVE + r" )?(?:a )?deceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel=-inf, max_accel=-{accel}"),
     # a lateral acceleration toward one side, or of either sign ("swerving", "either way")
     Phrase(_SWERVING + " " + _TOWARD_SIDE + r"left (?:with |at )" + _LATERAL, _LATERAL_FN, _LEFT_ACCEL),
@@ -361,6 +388,16 @@ PHRASES: tuple[Phrase, ...] = (
         "being_crossed_by", direction="forward",
     ),
     Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
+    # a cut-in: the other road user crosses the line straight ahead of X's front bumper
+    Phrase(
+        r"(?:cutting (?:in )?(?:in front of|ahead of)|cutting off|cutting into the path of) {obj}",
+        "being_crossed_by", direction="forward", reverse=True,
+    ),
+    Phrase(
+        _HAVE + r" {obj} (?:walking |running |cycling |driving )?(?:crossing|cutting across)"
+        r" (?:their|its) path(?: in front(?: of (?:them|it))?)?",
+        "being_crossed_by", direction="forward",
+    ),
     # overtaking: the overtaker crosses the other's left side from behind to ahead (clockwise)
     Phrase(r"(?:overtaking|passing) {obj} on the right", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right", reverse=True),
@@ -496,7 +533,7 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
     Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
             "at_pedestrian_crossing"),
-    Phrase(r"(?:on|in|inside|within|(?:driving |walking |going )?across) " + _CROSSWALK,
+    Phrase(r"(?:on|in|inside|within|crossing|(?:driving |walking |going )?across) " + _CROSSWALK,
             "at_pedestrian_crossing", "within_distance=0"),
     Phrase(r"(?:at|using) " + _CROSSWALK, "at_pedestrian_crossing"),
     Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
@@ -520,6 +557,11 @@ PHRASES: tuple[Phrase, ...] = (
         "on_relative_side_of_road", "side='opposite'", implied=LAST,
     ),
     Phrase(r"jaywalking", "jaywalking"),
+    # "crossing the street" with no one named: on the road and moving (a crossing in front of
+    # someone, of an intersection or of a crosswalk is read above)
+    Phrase(
+        r"(?:crossing|walking across|running across)(?: (?:the |a )?(?:road|street|roadway))?", "crossing"
+    ),
     # bare relations (after the map phrases)
     Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",
             "distance_thresh=10"),
@@ -529,13 +571,19 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?:slamming on the brakes|braking hard|braking heavily|hard braking|heavy braking|emergency braking"
         r"|stopping suddenly|decelerating hard)",
-        "accelerating", "min_accel=-inf, max_accel=-3.0",
+        *HARD_BRAKING,
     ),
     Phrase(_NOT + r"(?:speeding up|accelerating|picking up speed|gaining speed)", *_SPEEDING_UP),
     Phrase(
         _NOT + r"(?:slowing down|slowing|decelerating|braking|losing speed)",
         "accelerating", "min_accel=-inf, max_accel=-1.0",
     ),
+    Phrase(
+        r"(?:pulling away|pulling out|taking off|setting off|starting (?:to move|off|up))"
+        r"(?: from (?:a |the )?(?:stop|standstill|curb|kerb))?",
+        *_SPEEDING_UP,
+    ),
+    Phrase(r"(?:coming to a (?:stop|halt)|stopping)", *STOPPED),
     Phrase(r"(?:making|taking|doing|performing) an? (?P<dir>left|right)(?: turn| hand turn)?", *_TURNING),
     Phrase(r"turning (?:to the )?(?P<dir>left|right)", *_TURNING),
     Phrase(_NOT + r"(?:making a turn|turning)", "turning"),
@@ -564,10 +612,15 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:standing still|at a standstill|not moving|at rest)", *STOPPED_OR_PARKED),
     # "waiting at a stop sign": stopped there (the place is read by its own phrase)
     Phrase(r"waiting", *STOPPED),
-    Phrase(_NOT + r"(?:parked|stationary)", "stationary"),
+    Phrase(_NOT + r"(?:double[- ]parked|parked|stationary)", "stationary"),
     Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),
     Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)", "has_velocity",
             "min_velocity=0.5, max_velocity=3"),
-    Phrase(r"(?:at (?:a )?high speed|quickly)", "has_velocity", "min_velocity=10"),
+    Phrase(r"(?:(?:moving |driving |going |travell?ing )?(?:at (?:a )?high speed|quickly|fast|rapidly))",
+            "has_velocity", "min_velocity=10"),
+    Phrase(
+        r"(?:(?:moving |driving |going |travell?ing |walking |riding )?(?:slowly|slow|at (?:a )?low speed))",
+        *SLOW,
+    ),
     Phrase(r"(?:moving|in motion|walking|riding|cycling|jogging|running|travell?ing)", *MOVING),
 )  # fmt: skip

@@ -39,6 +39,7 @@ from scenariominer.mine.plan_phrases import (
     MODIFIERS,
     ORDINALS,
     PHRASES,
+    SLOW,
     TO_MPS,
     WORD_NUMBERS,
     Phrase,
@@ -47,7 +48,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/13"
+PLAN_READER_VERSION = "plan-reader/14"
 
 
 @dataclass
@@ -113,6 +114,8 @@ class _Reading:
 _COMPOUND: dict[str, tuple[tuple[str, str | None, bool], ...]] = {
     "not stationary": (("stationary", None, True),),
     "jaywalking": (("on_road", None, False), ("at_pedestrian_crossing", None, True)),
+    # "crossing the street", no one named: on the road and moving
+    "crossing": (("on_road", None, False), ("has_velocity", "min_velocity=0.5", False)),
     # swerving: a sideways acceleration of 2 m/s^2 or more (the motion predicates' "large"), not
     # from a turn
     "swerving": (("turning", None, True), ("lateral_acceleration_either_way", "accel=2", False)),
@@ -250,6 +253,17 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
         reading.condition(phrase.function, argument, negated="neg" in groups)
 
 
+def _stated_speed_wins(reading: _Reading) -> None:
+    """Drop the 5 m/s of "slow" when the description states its own upper speed ("under 30 km/h")."""
+    slow = {"function": SLOW[0], "negated": False, "argument": SLOW[1]}
+    stated = any(
+        c["function"] == SLOW[0] and "max_velocity" in (c["argument"] or "") and c != slow
+        for c in reading.conditions
+    )
+    if stated:
+        reading.conditions[:] = [c for c in reading.conditions if c != slow]
+
+
 def _last_other(reading: _Reading) -> str:
     """The other road user of the last relation read so far, or the ego when there is none."""
     for rel in reversed(reading.relations):
@@ -352,6 +366,7 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         if _ALTERNATIVES.search(rest):
             raise _Unread("or")  # "near X or following Y": alternatives of relations, the model reads them
         rest = _MARKER.sub("", rest)
+        _stated_speed_wins(reading)
         if group is not None:
             _as_group(reading, int(group.group("size") or _GROUP_SIZE))
         unread = skipped + [word for word in re.findall(r"[\w'/.-]+", rest) if word not in FILLERS]
@@ -473,7 +488,7 @@ _SHARED_VERB = re.compile(
 #: Other wordings put in the one form the tables read: (pattern, replacement).
 _REWORDINGS: tuple[tuple[re.Pattern[str], str], ...] = (
     # "the ego vehicle's lane / path"
-    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? lane\b"), "the same lane as the ego vehicle"),
+    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
     # a subject's adjective that is a motion or a relation: "left-turning cars", "oncoming trucks"
     (re.compile(rf"^((?:an? |the |all )?)(left|right)[- ]turning ({_NOUN})(?![\w-])"), r"\1\3 turning \2"),
@@ -483,6 +498,21 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str], ...] = (
         r"\1\2 travelling in the opposite direction to the ego vehicle",
     ),
     (re.compile(r"\bgetting closer to\b"), "closing in on"),
+    # "merging into the ego's lane": a lane change, then in that lane
+    (
+        re.compile(r"\b(?:merging|cutting|changing lanes?|moving over|pulling) into the same lane as\b"),
+        "changing lanes in the same lane as",
+    ),
+    # "us", "we": the ego vehicle ("vehicles in front of us")
+    (re.compile(r"(?<= )us\b"), "the ego vehicle"),
+    # a manoeuvre with no road user named is a vehicle's ("hard braking events")
+    (
+        re.compile(
+            r"^(?:hard|heavy|emergency|sudden|harsh) braking(?: events?| manoeuvres?| maneuvers?)?\b"
+            rf"(?! (?:{_NOUN}))"
+        ),
+        "vehicles braking hard",
+    ),
     # "less than 10 m ahead": within 10 m (not "less than 10 m/s")
     (
         re.compile(
