@@ -113,6 +113,8 @@ SPLITS: tuple[str, ...] = (
     "fresh4",
     "fresh5",
     "fresh6",
+    "fresh7",
+    "fresh8",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
