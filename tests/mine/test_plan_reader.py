@@ -14,7 +14,7 @@ from scenariominer.llm.embeddings import HashingEmbedder
 from scenariominer.mine.context import LogContext
 from scenariominer.mine.loop import ProgramCache, generate_program
 from scenariominer.mine.plan import plan_text
-from scenariominer.mine.plan_program import compile_plan
+from scenariominer.mine.plan_program import PlanCompileError, compile_plan
 from scenariominer.mine.plan_reader import read_plan
 from scenariominer.mine.programs import ExampleProgram, load_examples
 from scenariominer.mine.sandbox import ProgramResult, run_trusted_program
@@ -148,6 +148,20 @@ def _referred(description: str) -> set[str]:
         ("the AV following a car", {"ego"}),
         ("buses pulling away from a stop", {"bus"}),  # accelerating at 1.5 m/s^2
         ("vehicles that have a pedestrian crossing their path", {"lead"}),
+        # after the fresh7/fresh8 runs (plan-reader/15): feet, "on the ego's left side", "right next
+        # to X on its side", a search verb first, a speed range "4 to 6 m/s", a direction "whose
+        # direction of travel is ...", lists of road users, a bracketed subject, "other than X"
+        ("pedestrians within 20 feet of a stop sign", {"ped"}),  # 4 m (13 ft) from it at t = 0
+        ("cars right next to the ego on its left side", {"overtaker"}),  # passes 3.6 m to its left
+        ("objects of any kind within 4 m on the ego's right side", {"bike"}),  # 3.6 m to its right
+        ("find all instances of parked cars", {"parked"}),
+        ("cars at 4 to 6 m/s", {"turner"}),  # 5 m/s
+        ("cars whose direction of travel is opposite to that of the ego vehicle", {"oncoming", "parked"}),
+        ("pedestrians walking in the same direction as the ego vehicle", set()),  # ped walks north
+        ("pedestrians, cyclists or buses near the ego vehicle", {"bike", "ped", "pedA", "pedB"}),
+        ("large vehicles (buses, trucks or trailers) moving", {"bus"}),
+        ("vehicles other than cars", {"bus", "ego"}),
+        ("moving vehicles that are neither regular cars nor the ego", {"bus"}),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -181,6 +195,16 @@ def test_a_manoeuvre_with_no_road_user_named_is_a_vehicles() -> None:
     program = _program("hard braking, deceleration stronger than 3 m/s^2")
     assert "category='VEHICLE'" in program and "max_accel=-3" in program
     assert "category='REGULAR_VEHICLE'" in _program("hard braking cars")  # the subject named
+
+
+def test_a_definition_after_ie_is_read_and_a_bad_category_is_refused() -> None:
+    program = _program("jaywalkers, i.e. pedestrians on the road but not at a crosswalk")
+    assert "on_road(" in program and "scenario_not(at_pedestrian_crossing)" in program
+    plan = read_plan("vehicles other than cars")
+    assert plan is not None
+    bad = {**plan, "conditions": [{"function": "is_category", "negated": True, "argument": "category='UFO'"}]}
+    with pytest.raises(PlanCompileError, match="no Argoverse 2 category"):
+        compile_plan(bad)
 
 
 def test_a_cut_in_is_a_crossing_of_the_line_ahead_of_the_one_cut_off() -> None:

@@ -16,6 +16,7 @@ __all__ = [
     "CATEGORY_PHRASES",
     "COUNT_KEYWORD",
     "EGO",
+    "EXCEPT",
     "FILLERS",
     "HARD_BRAKING",
     "LAST",
@@ -63,7 +64,11 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     ),
     (r"(?:vehicular )?trailers?", ("VEHICULAR_TRAILER",)),
     (r"trams?|streetcars?|trains?|trolleys?|railed vehicles?", ("RAILED_VEHICLE",)),
-    (r"cars?|sedans?|suvs?|vans?|pickups?|passenger vehicles?|regular vehicles?", ("REGULAR_VEHICLE",)),
+    (
+        r"(?:regular |normal |ordinary )?cars?|sedans?|suvs?|vans?|pickups?|passenger (?:vehicles?|cars?)"
+        r"|regular vehicles?",
+        ("REGULAR_VEHICLE",),
+    ),
     (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
     (r"(?:motor )?vehicles?", ("VEHICLE",)),
     (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
@@ -97,6 +102,9 @@ STOPPED_OR_PARKED = ("stopped", None)
 SLOW = ("has_velocity", "min_velocity=0.5, max_velocity=5")
 HARD_BRAKING = ("accelerating", "min_accel=-inf, max_accel=-3.0")
 
+#: "other than X": the subject without the categories of X (:func:`scenariominer.mine.plan_reader._apply`).
+EXCEPT = "except"
+
 #: Adjectives before a road user: (pattern, condition function, argument).
 MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
     (r"moving", *MOVING),
@@ -126,6 +134,7 @@ TO_MPS = {
 FILLERS = frozenset(
     {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
     | {"while", "also", "currently", "there", "driving", "standing"}
+    | {"located", "situated", "positioned", "present", "visible"}
 )
 
 
@@ -156,7 +165,10 @@ _DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
 _SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})?"
 _GOING = r"(?:(?:moving|going|driving|travell?ing) )?"
 _HAVE = r"(?:that have|that has|having|with)"
-_CROSSWALK = r"(?:a |the |any )?(?:crosswalk|zebra crossing|pedestrian crossing|designated crossing)s?"
+_CROSSWALK = (
+    r"(?:a |the |any )?(?:marked |painted |designated )?(?:crosswalk|zebra crossing|pedestrian crossing"
+    r"|designated crossing)s?"
+)
 _INTERSECTION = r"(?:an |the |a )?(?:intersection|junction)s?"
 _NOT = r"(?P<neg>not |without )?"
 #: How many of the other road users a relation needs: "multiple X", "at least 2 X", "3 or more X".
@@ -330,7 +342,7 @@ PHRASES: tuple[Phrase, ...] = (
         r"within " + _DIST + r" of (?:each other|one another)",
         "near_objects", "distance_thresh={dist}", to_subject=True,
     ),
-    Phrase(r"within " + _DIST + " of {obj}", "near_objects", "distance_thresh={dist}"),
+    Phrase(r"within " + _DIST + " (?:of|from) {obj}", "near_objects", "distance_thresh={dist}"),
     Phrase(r"accelerating (?:at )?" + _MORE_THAN + " " + _ACCEL, "accelerating", "min_accel={accel}"),
     Phrase(_NOT_SIDEWAYS + r"(?:" + _HAVE + r" )?(?:an )?acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel={accel}"),
@@ -435,13 +447,18 @@ PHRASES: tuple[Phrase, ...] = (
         "facing_toward",
     ),
     Phrase(
-        r"on the (?:other|opposite) side of the road(?: from| to| than)? {obj}",
+        r"on the (?:other|opposite) side of the road(?: from| to| than| relative to| with respect to)? {obj}",
         "on_relative_side_of_road", "side='opposite'",
     ),
     Phrase(r"on the same side of the road as {obj}", "on_relative_side_of_road", "side='same'"),
     Phrase(
-        r"(?:travell?ing|heading|driving|moving|going|riding) (?:in (?:the )?)?(?P<dir>same|opposite)"
-        r"(?: direction)? (?:as|to) {obj}",
+        r"(?:travell?ing|heading|driving|moving|going|riding) (?:in (?:the )?)?"
+        r"(?P<dir>same|opposite)(?: direction)? (?:as|to|of) {obj}",
+        "heading_in_relative_direction_to", direction="{dir}",
+    ),
+    # "walking in the same direction as X": the walking is read on its own (moving)
+    Phrase(
+        r"in (?:the )?(?P<dir>same|opposite) direction (?:as|to|of) {obj}",
         "heading_in_relative_direction_to", direction="{dir}",
     ),
     Phrase(
@@ -520,10 +537,10 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:going past|driving past|passing by) {obj}", "near_objects", "distance_thresh=20"),
     # places on the map (before the bare "near X", which would read "an intersection" as a road user)
     Phrase(
-        _IN_LANE + r"(?:bike|bicycle|cycle) lanes?",
+        _IN_LANE + r"(?:bike|bicycle|cycle)(?:[- ]only)? lanes?",
         "on_lane_type", "lane_type='BIKE'",
     ),
-    Phrase(_IN_LANE + r"bus lanes?", "on_lane_type", "lane_type='BUS'"),
+    Phrase(_IN_LANE + r"bus(?:[- ]only)? lanes?", "on_lane_type", "lane_type='BUS'"),
     Phrase(_IN_LANE + r"(?:vehicle|car|traffic|driving) lanes?", "on_lane_type", "lane_type='VEHICLE'"),
     Phrase(_NEAR + " " + _INTERSECTION, "near_intersection"),
     Phrase(
@@ -549,6 +566,15 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
     Phrase(r"(?:on|in) (?:the |a )?(?:road|street|roadway|carriageway)", "on_road"),
     Phrase(r"in traffic", None),
+    # the logs' own frame: "buses *driving through the scene*" (moving), "cars *in the scene*"
+    Phrase(
+        r"(?:driving|moving|passing|going|travell?ing|riding|walking) (?:through|across)"
+        r" the (?:scene|frame|view)",
+        *MOVING,
+    ),
+    Phrase(r"(?:in|within|across|throughout) the (?:scene|frame|view|log|logs|recording|data)", None),
+    # "other than X", "except X", "that are not X": the subject without X's categories
+    Phrase(r"(?:other than|except(?: for)?|excluding|apart from|but not|not) {obj}", EXCEPT),
     # "ahead of the ego in the same lane": the lane of the road user the description last named
     Phrase(r"in (?:the )?same lane(?! as)", "in_same_lane", implied=LAST),
     Phrase(r"on the same side of the road(?! as)", "on_relative_side_of_road", "side='same'", implied=LAST),
@@ -561,6 +587,12 @@ PHRASES: tuple[Phrase, ...] = (
     # someone, of an intersection or of a crosswalk is read above)
     Phrase(
         r"(?:crossing|walking across|running across)(?: (?:the |a )?(?:road|street|roadway))?", "crossing"
+    ),
+    # "right next to X on its right side": beside X, on that side
+    Phrase(
+        _DIRECTLY + r"(?:next to|beside|alongside) {obj} (?:on|to) (?:its|their|the) (?P<dir>left|right)"
+        r"(?: side| hand side)?",
+        _GET_IN_DIRECTION, _BESIDE, "{dir}",
     ),
     # bare relations (after the map phrases)
     Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",
@@ -575,6 +607,10 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(_NOT + r"(?:speeding up|accelerating|picking up speed|gaining speed)", *_SPEEDING_UP),
     Phrase(
+        r"(?:hitting|applying|pressing|tapping|stepping on|using|on) (?:the |their |its )?brakes?",
+        "accelerating", "min_accel=-inf, max_accel=-1.0",
+    ),
+    Phrase(
         _NOT + r"(?:slowing down|slowing|decelerating|braking|losing speed)",
         "accelerating", "min_accel=-inf, max_accel=-1.0",
     ),
@@ -583,7 +619,12 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?: from (?:a |the )?(?:stop|standstill|curb|kerb))?",
         *_SPEEDING_UP,
     ),
-    Phrase(r"(?:coming to a (?:stop|halt)|stopping)", *STOPPED),
+    Phrase(
+        r"(?:(?:has |have |had )?(?:come|coming|came) to an? (?:momentary |brief |short |temporary |full )?"
+        r"(?:stop|halt)|stopping|(?:momentarily|briefly|temporarily) (?:stopped|halted|stopping)"
+        r"|(?:making|at) an? (?:momentary|brief|short|temporary) stop)",
+        *STOPPED,
+    ),
     Phrase(r"(?:making|taking|doing|performing) an? (?P<dir>left|right)(?: turn| hand turn)?", *_TURNING),
     Phrase(r"turning (?:to the )?(?P<dir>left|right)", *_TURNING),
     Phrase(_NOT + r"(?:making a turn|turning)", "turning"),
@@ -614,7 +655,7 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"waiting", *STOPPED),
     Phrase(_NOT + r"(?:double[- ]parked|parked|stationary)", "stationary"),
     Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),
-    Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)", "has_velocity",
+    Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)(?: along| forward)?", "has_velocity",
             "min_velocity=0.5, max_velocity=3"),
     Phrase(r"(?:(?:moving |driving |going |travell?ing )?(?:at (?:a )?high speed|quickly|fast|rapidly))",
             "has_velocity", "min_velocity=10"),

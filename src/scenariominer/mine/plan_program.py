@@ -46,7 +46,7 @@ from scenariominer.mine.plan_reader import one_or_many, subject_categories
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/8"
+PLAN_PROGRAM_VERSION = "plan-program/9"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -430,6 +430,22 @@ def _related_objects(plan: Mapping[str, Any], lines: list[str]) -> dict[str, str
     return objects
 
 
+def _known_category(name: str, value: str) -> str:
+    """``value`` as a category or category group name of ``name``'s ``category`` argument.
+
+    Raises:
+        PlanCompileError: it is neither.
+    """
+    from scenariominer.data.categories import CATEGORY_GROUPS, UnknownCategoryError, canonical_category
+
+    if value.upper() in CATEGORY_GROUPS:
+        return value.upper()
+    try:
+        return canonical_category(value)
+    except UnknownCategoryError:
+        raise PlanCompileError(f"{name}: category={value!r} is no Argoverse 2 category or group") from None
+
+
 def _category(words: Any, category: Any) -> str | list[str]:
     """The planned category (or categories), or EGO_VEHICLE when the words name the ego.
 
@@ -531,6 +547,8 @@ def _settings(name: str, func: Callable[..., Any], text: Any, notes: list[str]) 
                 allowed = ", ".join(repr(o) for o in choices[key] if o is not None)
                 raise PlanCompileError(f"{name}: {key}={value!r} is not one of {allowed}")
             value = chosen
+        elif key == "category" and isinstance(value, str):
+            value = _known_category(name, value)
         elif not isinstance(value, int | float) or isinstance(value, bool):
             notes.append(f"{name}: left out {piece.strip()!r} ({key} takes a number)")
             continue

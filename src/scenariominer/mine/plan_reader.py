@@ -27,6 +27,7 @@ Units are converted (km/h, mph, "meters per second" to m/s).
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -34,6 +35,7 @@ from scenariominer.mine.plan_phrases import (
     CATEGORY_PHRASES,
     COUNT_KEYWORD,
     EGO,
+    EXCEPT,
     FILLERS,
     LAST,
     MODIFIERS,
@@ -48,7 +50,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/14"
+PLAN_READER_VERSION = "plan-reader/15"
 
 
 @dataclass
@@ -142,7 +144,7 @@ _CATEGORY_RE = _alternation(p for p, _ in CATEGORY_PHRASES)
 _MODIFIER_RE = _alternation(p for p, _, _ in MODIFIERS)
 #: Words before another road user that carry no condition ("a *lead* vehicle": the relation says it).
 _DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their|lead|leading|preceding)\s+)"
-_NOUN = rf"(?:{_CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{_CATEGORY_RE}))?"
+_NOUN = rf"(?:{_CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{_CATEGORY_RE})){{0,4}}"
 _NOUN_PHRASE = re.compile(rf"{_DETERMINER}*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})")
 _NP = rf"(?:(?:{_DETERMINER}*)(?:(?:{_MODIFIER_RE})\s+)*(?:{_NOUN}))"
 
@@ -226,6 +228,9 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
     if phrase.function is None:
         return
     groups = {k: v for k, v in found.groupdict().items() if v is not None}
+    if phrase.function == EXCEPT:
+        _leave_out(reading, groups["obj"])
+        return
     if "value" in groups:
         groups["speed"] = str(_speed_mps(groups["value"], groups.get("unit")))
     if "low" in groups:  # "between 5 and 10 m/s": the unit stated once, after both
@@ -262,6 +267,19 @@ def _stated_speed_wins(reading: _Reading) -> None:
     )
     if stated:
         reading.conditions[:] = [c for c in reading.conditions if c != slow]
+
+
+def _leave_out(reading: _Reading, words: str) -> None:
+    """Keep only the subject's members outside the categories of ``words`` ("other than buses").
+
+    Raises:
+        _Unread: ``words`` carry adjectives ("other than *moving* buses": not a category).
+    """
+    found = _NOUN_PHRASE.fullmatch(words.strip())
+    if found is None or found.group("mods"):
+        raise _Unread(words)
+    for category in _categories(found.group("noun")):
+        reading.condition("is_category", f"category='{category}'", negated=True)
 
 
 def _last_other(reading: _Reading) -> str:
@@ -452,6 +470,45 @@ def _leading_subject(description: str) -> tuple[re.Match[str] | None, re.Match[s
     return group, _SUBJECT.match(text), text
 
 
+#: "find (all) (instances of)": words that ask for the result rather than describe it.
+_SEARCH_VERB = re.compile(
+    r"^(?:please )?(?:retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me|return|select"
+    r"|extract|locate)(?: (?:all|every|any|the))?(?: (?:instances|cases|examples|occurrences|situations"
+    r"|scenarios|scenes|frames|moments|events) (?:of|where|with|in which))?\s+"
+)
+#: A list of three or more road users ("pedestrians, cyclists or scooters").
+_LIST = re.compile(
+    rf"(?<![\w-])(?P<head>{_CATEGORY_RE})(?P<tail>(?:,\s*(?:other\s+)?(?:{_CATEGORY_RE}))+),?\s+"
+    rf"(?P<conj>or|and)\s+(?P<last>(?:other\s+)?(?:{_CATEGORY_RE}))(?![\w-])"
+)
+#: "heavy vehicles (trucks, box trucks or buses) ...": the road users in brackets name the subject.
+_BRACKETED_SUBJECT = re.compile(rf"^(?:an? |the |all )?[\w -]+?\s*\((?P<noun>{_NOUN})\)")
+
+
+def _listed_road_users(text: str) -> str:
+    """``text`` with a list of road users joined by "or" and a bracketed subject list put first.
+
+    "pedestrians, cyclists or scooters near X" -> "pedestrians or cyclists or scooters near X";
+    "heavy vehicles (trucks, box trucks or buses) going ..." -> "trucks or box trucks or buses
+    going ...".
+    """
+    text = _LIST.sub(
+        lambda m: " or ".join(
+            [m["head"], *(p.strip() for p in m["tail"].split(",") if p.strip()), m["last"]]
+        ),
+        text,
+    )
+    bracketed = _BRACKETED_SUBJECT.match(text)
+    if bracketed is not None and _SUBJECT.match(text):
+        text = bracketed["noun"] + text[bracketed.end() :]
+    return text
+
+
+def _metres(feet: str) -> str:
+    """A number of feet in metres, to the millimetre ("20" -> "6.096")."""
+    return f"{round(float(feet) * 0.3048, 3):g}"
+
+
 def _normalised_text(description: str) -> str:
     """Lower case, single spaces, no final full stop, number words as digits ("three" -> "3").
 
@@ -459,9 +516,18 @@ def _normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = " ".join(description.lower().replace(",", " ").split()).rstrip(".!")
+    text = " ".join(_listed_road_users(description.lower()).replace(",", " ").split()).rstrip(".!")
+    # "jaywalkers, i.e. pedestrians on the road ...": the definition after "i.e." when it names a
+    # road user first
+    _, ie, definition = text.partition(" i.e. ")
+    if ie and _SUBJECT.match(definition):
+        text = definition
     # examples after the description add nothing to read ("..., e.g. in a parking lot")
     text = re.sub(r"\s*\(?\b(?:e\.g\.?|i\.e\.?|for example|for instance|such as)(?:\s.*)?$", "", text)
+    # a search verb before the request ("find all instances of trucks ...")
+    text = _SEARCH_VERB.sub("", text)
+    # feet as metres ("within 20 feet": 6.096 m)
+    text = re.sub(r"\b(\d+(?:\.\d+)?) ?(?:feet|foot|ft)\b", lambda m: f"{_metres(m.group(1))} m", text)
     # "cross traffic: vehicles moving perpendicular to the ego": the definition after the colon
     _, colon, definition = text.partition(": ")
     if colon and _SUBJECT.match(definition):
@@ -485,8 +551,9 @@ _RELATION_VERB = (
 _SHARED_VERB = re.compile(
     rf"(?<![\w-])(?P<v1>{_RELATION_VERB}) and (?P<v2>{_RELATION_VERB}) (?P<obj>{_NP})(?![\w-])"
 )
+_SPEED_UNITS = "|".join(map(re.escape, TO_MPS))
 #: Other wordings put in the one form the tables read: (pattern, replacement).
-_REWORDINGS: tuple[tuple[re.Pattern[str], str], ...] = (
+_REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
     # "the ego vehicle's lane / path"
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
@@ -503,6 +570,38 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str], ...] = (
         re.compile(r"\b(?:merging|cutting|changing lanes?|moving over|pulling) into the same lane as\b"),
         "changing lanes in the same lane as",
     ),
+    # "on the ego's left side": to the left of it
+    (
+        re.compile(r"\bon (?:the )?ego(?: vehicle| car)?'s? (left|right)(?:[- ]hand)?(?: side)?"),
+        r"on the \1 side of the ego vehicle",
+    ),
+    # "of any kind": every category (the subject's own word says it)
+    (re.compile(r" (?:of any (?:kind|type|sort|category)|of all (?:kinds|types))\b"), ""),
+    # "whose direction of travel is perpendicular to that of X"
+    (
+        re.compile(
+            r"\b(?:whose |with (?:a |their |its )?)(?:direction of travel|travel direction|heading|direction)"
+            r" is (?:at right angles|perpendicular) to (?:that of )?"
+        ),
+        "moving perpendicular to ",
+    ),
+    (
+        re.compile(
+            r"\b(?:whose |with (?:a |their |its )?)(?:direction of travel|travel direction|heading|direction)"
+            r" is (?P<dir>opposite|the same as) (?:to )?(?:that of )?"
+        ),
+        lambda m: (
+            "moving in the " + ("opposite direction to " if m["dir"] == "opposite" else "same direction as ")
+        ),
+    ),
+    # "at 1 to 3 m/s": between them
+    (
+        re.compile(rf"\b(?:at |from )?(\d+(?:\.\d+)?) ?(?:-|to) ?(\d+(?:\.\d+)?) ?({_SPEED_UNITS})"),
+        r"between \1 and \2 \3",
+    ),
+    # "neither X nor Y": not X, not Y
+    (re.compile(r"\bneither (.+?) nor\b"), r"not \1 not"),
+    (re.compile(r"^jaywalkers\b"), "jaywalking pedestrians"),
     # "us", "we": the ego vehicle ("vehicles in front of us")
     (re.compile(r"(?<= )us\b"), "the ego vehicle"),
     # a manoeuvre with no road user named is a vehicle's ("hard braking events")
