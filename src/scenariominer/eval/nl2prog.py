@@ -115,6 +115,7 @@ SPLITS: tuple[str, ...] = (
     "fresh6",
     "fresh7",
     "fresh8",
+    "fresh9",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
