@@ -162,6 +162,14 @@ def _referred(description: str) -> set[str]:
         ("large vehicles (buses, trucks or trailers) moving", {"bus"}),
         ("vehicles other than cars", {"bus", "ego"}),
         ("moving vehicles that are neither regular cars nor the ego", {"bus"}),
+        # after the fresh9 run (plan-reader/16): the lead vehicle, "X that the ego is following",
+        # a parking lot (drivable, no lane: the block south of the intersection), going straight
+        # (moving, not turning)
+        ("the lead vehicle", {"lead"}),
+        ("cars that the ego vehicle is following", {"lead"}),
+        ("cars in a parking lot", {"turner"}),  # after its turn, southbound through the block
+        ("cars going straight", {"lead", "changer", "oncoming", "overtaker", "turner"}),  # not parked
+        ("cars turning right at an intersection", {"turner"}),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -205,6 +213,14 @@ def test_a_definition_after_ie_is_read_and_a_bad_category_is_refused() -> None:
     bad = {**plan, "conditions": [{"function": "is_category", "negated": True, "argument": "category='UFO'"}]}
     with pytest.raises(PlanCompileError, match="no Argoverse 2 category"):
         compile_plan(bad)
+
+
+def test_a_distance_after_moving_toward_limits_how_far() -> None:
+    assert "heading_toward(subject, related_1, log_dir, max_distance=20)" in _program(
+        "vehicles driving toward a construction cone less than 20 m away"
+    )
+    assert "max_distance=10" in _program("cars approaching a pedestrian within 10 m")
+    assert "near_intersection(" in _program("cars stopped at an intersection")  # on it or before it
 
 
 def test_a_cut_in_is_a_crossing_of_the_line_ahead_of_the_one_cut_off() -> None:

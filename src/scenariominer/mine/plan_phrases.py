@@ -226,9 +226,9 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_IN_LINE_BEHIND, "in_line", "rank={rank}", "backward", implied=EGO),
     # "going straight (ahead)": not turning (before the bare "ahead", a relation to the ego)
     Phrase(
-        r"(?P<neg>(?:going|driving|continuing|heading|travell?ing|moving|proceeding|riding) straight)"
+        r"(?:going|driving|continuing|heading|travell?ing|moving|proceeding|riding) straight"
         r"(?: ahead| on)?(?! (?:at|towards?|for) )",
-        "turning",
+        "going straight",
     ),
     # a direction of travel with no one named: the ego's ("vehicles in the opposite direction")
     Phrase(
@@ -435,6 +435,11 @@ PHRASES: tuple[Phrase, ...] = (
             r"(?: too closely| closely)?", "following"),
     Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
     Phrase(r"(?:(?:in|sharing) (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
+    Phrase(
+        r"(?:heading|moving|driving|going|walking|running|riding|travell?ing|cycling|approaching"
+        r"|closing in on) (?:straight |directly )?(?:towards? )?{obj} within " + _DIST + "(?: away)?",
+        "heading_toward", "max_distance={dist}",
+    ),
     Phrase(r"(?:approaching|closing in on) {obj}", "heading_toward"),
     # "moving toward X" states no distance: the predicate's own (any distance)
     Phrase(
@@ -541,12 +546,23 @@ PHRASES: tuple[Phrase, ...] = (
         "on_lane_type", "lane_type='BIKE'",
     ),
     Phrase(_IN_LANE + r"bus(?:[- ]only)? lanes?", "on_lane_type", "lane_type='BUS'"),
-    Phrase(_IN_LANE + r"(?:vehicle|car|traffic|driving) lanes?", "on_lane_type", "lane_type='VEHICLE'"),
+    Phrase(
+        _IN_LANE + r"(?:(?:regular|normal|general|ordinary) )?(?:vehicle|car|traffic|driving) lanes?",
+        "on_lane_type", "lane_type='VEHICLE'",
+    ),
+    # a parking lot or a driveway: drivable, but no road
+    Phrase(
+        r"(?:in|on|at|inside|within) (?:a |the )?(?:parking (?:lot|area|garage)|car park|driveway)s?"
+        r"(?: or (?:a |the )?(?:parking (?:lot|area|garage)|car park|driveway)s?)?",
+        "parking lot",
+    ),
     Phrase(_NEAR + " " + _INTERSECTION, "near_intersection"),
     Phrase(
         r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
     ),
-    Phrase(r"(?:in|on|inside|within|at|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
+    Phrase(r"(?:in|on|inside|within|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
+    # "at an intersection": on it or just before it (stopped at the stop line, turning there)
+    Phrase(r"at " + _INTERSECTION, "near_intersection"),
     Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
     Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
             "at_pedestrian_crossing"),

@@ -50,7 +50,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/15"
+PLAN_READER_VERSION = "plan-reader/16"
 
 
 @dataclass
@@ -116,6 +116,8 @@ class _Reading:
 _COMPOUND: dict[str, tuple[tuple[str, str | None, bool], ...]] = {
     "not stationary": (("stationary", None, True),),
     "jaywalking": (("on_road", None, False), ("at_pedestrian_crossing", None, True)),
+    "going straight": (("turning", None, True), ("has_velocity", "min_velocity=0.5", False)),
+    "parking lot": (("in_drivable_area", None, False), ("on_road", None, True)),
     # "crossing the street", no one named: on the road and moving
     "crossing": (("on_road", None, False), ("has_velocity", "min_velocity=0.5", False)),
     # swerving: a sideways acceleration of 2 m/s^2 or more (the motion predicates' "large"), not
@@ -602,6 +604,20 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # "neither X nor Y": not X, not Y
     (re.compile(r"\bneither (.+?) nor\b"), r"not \1 not"),
     (re.compile(r"^jaywalkers\b"), "jaywalking pedestrians"),
+    # "the lead vehicle (that the ego vehicle is following)", nothing else: followed by the ego
+    (
+        re.compile(
+            r"^(?:the |a )?(?:lead|leading) (vehicle|car)s?(?: (?:that|which) (?:the )?ego(?: vehicle| car)?"
+            r" is following)?$"
+        ),
+        r"\1s being followed by the ego vehicle",
+    ),
+    (
+        re.compile(
+            rf"^((?:the |a |all )?{_NOUN}) (?:that|which) (?:the )?ego(?: vehicle| car)? is following\b"
+        ),
+        r"\1 being followed by the ego vehicle",
+    ),
     # "us", "we": the ego vehicle ("vehicles in front of us")
     (re.compile(r"(?<= )us\b"), "the ego vehicle"),
     # a manoeuvre with no road user named is a vehicle's ("hard braking events")
