@@ -116,6 +116,7 @@ SPLITS: tuple[str, ...] = (
     "fresh7",
     "fresh8",
     "fresh9",
+    "fresh10",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
