@@ -170,6 +170,28 @@ def _referred(description: str) -> set[str]:
         ("cars in a parking lot", {"turner"}),  # after its turn, southbound through the block
         ("cars going straight", {"lead", "changer", "oncoming", "overtaker", "turner"}),  # not parked
         ("cars turning right at an intersection", {"turner"}),
+        # after the fresh10 run (plan-reader/17): verbs in the base or present form, simple
+        # English, "stay in one spot", "in its own lane", a distance at the end, "leaving out X", a
+        # clause of another road user about the subject ("that a person walks across in front of it")
+        ("a car turns right", {"turner"}),
+        ("car that turn to the right", {"turner"}),
+        ("car change lane to the left", {"changer"}),
+        ("cars making a right turn", {"turner"}),  # "turn" stays a noun after "right"
+        ("pedestrians who stay in one spot for the whole log", {"ped2", "pedA", "pedB"}),
+        # the changer moves to lane 2 at t = 2-4 s, left of the ego; the oncoming car heads west
+        (
+            "car go same direction like the ego car and it is on left side of ego car",
+            {"changer", "overtaker"},
+        ),
+        ("vehicles ahead of the ego vehicle in its own lane, no more than 20 meters away", {"lead"}),
+        ("cars going more fast than 11 m/s", {"oncoming", "overtaker"}),  # 12 and 15 m/s
+        ("vehicle that a person walk across in front of it", {"lead"}),
+        (
+            "moving vehicles, leaving out the ego vehicle",
+            {"bus", "changer", "lead", "oncoming", "overtaker", "turner"},
+        ),
+        ("cars with a sideways acceleration of more than 2 m/s^2 to the left", {"changer"}),
+        ("buses that speed up strongly, more than 1 m/s^2", {"bus"}),  # 1.5 m/s^2
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:

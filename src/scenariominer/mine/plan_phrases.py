@@ -25,6 +25,10 @@ __all__ = [
     "PHRASES",
     "SLOW",
     "TO_MPS",
+    "VERB_BLOCKERS_AFTER",
+    "VERB_BLOCKERS_BEFORE",
+    "VERB_FORMS",
+    "VERB_PARTICLES",
     "WORD_NUMBERS",
     "Phrase",
 ]
@@ -130,11 +134,55 @@ TO_MPS = {
     "kilometers per hour": 1 / 3.6, "kilometres per hour": 1 / 3.6, "km/h": 1 / 3.6, "kph": 1 / 3.6,
     "kmh": 1 / 3.6, "miles per hour": 0.44704, "mph": 0.44704,
 }  # fmt: skip
+#: Verbs in the base or present form, as the tables read them ("a car turns left", "car that
+#: turn to the right" -> "turning"): word -> the -ing form.
+VERB_FORMS: dict[str, str] = {
+    **{w: "turning" for w in ("turn", "turns")},
+    **{w: "walking" for w in ("walk", "walks")},
+    **{w: "running" for w in ("run", "runs")},
+    **{w: "driving" for w in ("drive", "drives")},
+    **{w: "going" for w in ("go", "goes")},
+    **{w: "moving" for w in ("move", "moves")},
+    **{w: "stopping" for w in ("stop", "stops")},
+    **{w: "crossing" for w in ("cross", "crosses")},
+    **{w: "following" for w in ("follow", "follows")},
+    **{w: "approaching" for w in ("approach", "approaches")},
+    **{w: "accelerating" for w in ("accelerate", "accelerates")},
+    **{w: "decelerating" for w in ("decelerate", "decelerates")},
+    **{w: "braking" for w in ("brake", "brakes")},
+    **{w: "overtaking" for w in ("overtake", "overtakes")},
+    **{w: "passing" for w in ("pass", "passes")},
+    **{w: "waiting" for w in ("wait", "waits")},
+    **{w: "riding" for w in ("ride", "rides")},
+    **{w: "merging" for w in ("merge", "merges")},
+    **{w: "swerving" for w in ("swerve", "swerves")},
+    **{w: "facing" for w in ("face", "faces")},
+    **{w: "heading" for w in ("head", "heads")},
+    **{w: "travelling" for w in ("travel", "travels")},
+    **{w: "standing" for w in ("stand", "stands")},
+    **{w: "changing" for w in ("change", "changes")},
+    **{w: "slowing" for w in ("slow", "slows")},
+    **{w: "speeding" for w in ("speed", "speeds")},
+    **{w: "tailgating" for w in ("tailgate", "tailgates")},
+}
+#: Words before which a verb form is a noun or an adjective instead ("a right *turn*", "*stop*
+#: sign", "the *brakes*", "a *slow* car").
+VERB_BLOCKERS_BEFORE = frozenset(
+    {"a", "an", "the", "right", "left", "u", "bus", "full", "sudden", "momentary", "brief", "short", "to"}
+    | {"their", "its", "his", "her", "no", "hard", "emergency", "lane", "temporary", "complete", "crawling"}
+    | {"of", "for"}
+)
+#: Words after which ... : "stop *sign*", "turn *signal*", "speed *limit*", "slow *car*".
+VERB_BLOCKERS_AFTER = frozenset({"sign", "signs", "signal", "signals", "limit", "bump", "light", "lights"})
+#: Verbs that only count with their particle: "speed *up*", "slow *down*", "change *lane(s)*".
+VERB_PARTICLES = {"speeding": ("up",), "slowing": ("down",), "changing": ("lane", "lanes")}
+
 #: Words that carry no condition of their own.
 FILLERS = frozenset(
     {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
     | {"while", "also", "currently", "there", "driving", "standing"}
     | {"located", "situated", "positioned", "present", "visible"}
+    | {"it", "they", "does", "do"}
 )
 
 
@@ -343,7 +391,11 @@ PHRASES: tuple[Phrase, ...] = (
         "near_objects", "distance_thresh={dist}", to_subject=True,
     ),
     Phrase(r"within " + _DIST + " (?:of|from) {obj}", "near_objects", "distance_thresh={dist}"),
-    Phrase(r"accelerating (?:at )?" + _MORE_THAN + " " + _ACCEL, "accelerating", "min_accel={accel}"),
+    Phrase(
+        r"(?:accelerating|speeding up) (?:strongly |strong |hard |quickly )?(?:at )?" + _MORE_THAN
+        + " " + _ACCEL,
+        "accelerating", "min_accel={accel}",
+    ),
     Phrase(_NOT_SIDEWAYS + r"(?:" + _HAVE + r" )?(?:an )?acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel={accel}"),
     Phrase(r"(?:decelerating|braking|slowing(?: down)?) (?:at )?" + _MORE_THAN + " " + _ACCEL,
@@ -524,7 +576,7 @@ PHRASES: tuple[Phrase, ...] = (
         "get_objects_in_relative_direction", sides=("left", "right"), any_side=True,
     ),
     Phrase(
-        r"(?:directly |immediately )?(?:to the|on the) (?P<dir>left|right)(?: side| hand side)? of {obj}",
+        r"(?:directly |immediately )?(?:to|on) (?:the )?(?P<dir>left|right)(?: side| hand side)? of {obj}",
         "get_objects_in_relative_direction", None, "{dir}",
     ),
     Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
@@ -610,6 +662,11 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?: side| hand side)?",
         _GET_IN_DIRECTION, _BESIDE, "{dir}",
     ),
+    # "..., no more than 20 m away" at the end (after every phrase that takes a distance): from
+    # the road user named last
+    Phrase(
+        r"within " + _DIST + r"(?: away)?(?= ,|\s*$)", "near_objects", "distance_thresh={dist}", implied=LAST
+    ),
     # bare relations (after the map phrases)
     Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",
             "distance_thresh=10"),
@@ -670,6 +727,13 @@ PHRASES: tuple[Phrase, ...] = (
     # "waiting at a stop sign": stopped there (the place is read by its own phrase)
     Phrase(r"waiting", *STOPPED),
     Phrase(_NOT + r"(?:double[- ]parked|parked|stationary)", "stationary"),
+    # "who stay in 1 spot for the whole log": stationary (the predicate's own sense)
+    Phrase(
+        r"(?:stays?|staying|remains?|remaining) (?:in (?:1|the same) (?:spot|place|position|location)|still"
+        r"|stationary|in place|put)(?: (?:for|during|throughout) the (?:whole|entire) (?:log|scene|recording"
+        r"|time))?",
+        "stationary",
+    ),
     Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),
     Phrase(r"(?:moving )?(?:at (?:a )?crawling speed|crawling|creeping)(?: along| forward)?", "has_velocity",
             "min_velocity=0.5, max_velocity=3"),

@@ -43,6 +43,10 @@ from scenariominer.mine.plan_phrases import (
     PHRASES,
     SLOW,
     TO_MPS,
+    VERB_BLOCKERS_AFTER,
+    VERB_BLOCKERS_BEFORE,
+    VERB_FORMS,
+    VERB_PARTICLES,
     WORD_NUMBERS,
     Phrase,
 )
@@ -50,7 +54,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/16"
+PLAN_READER_VERSION = "plan-reader/17"
 
 
 @dataclass
@@ -618,6 +622,22 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         r"\1 being followed by the ego vehicle",
     ),
+    # simple English: "more fast than" -> "faster than", "same direction like" -> "... as"
+    (re.compile(r"\bmore (fast|slow)(?:ly)? than\b"), r"\1er than"),
+    (re.compile(r"\b(?:in )?(?:the )?same (?:direction|way) (?:like|as)\b"), "in the same direction as"),
+    (re.compile(r"\b(?:sideways|side|lateral) accel(?:eration)?\b"), "lateral acceleration"),
+    (re.compile(r"\bin (?:its|their|his|her) own lane\b"), "in the same lane"),
+    # "leaving out X", "not counting X": other than X
+    (re.compile(r"\b(?:leaving out|not counting|without counting|ignoring|excluding)\b"), "other than"),
+    # "vehicle that a person walks across in front of it": a clause of another road user about
+    # the subject ("it", "them") is the subject's "with"
+    (
+        re.compile(
+            rf"^((?:an? |the |all )?{_NOUN}) (?:that|which|where)"
+            rf" ((?:an? |the |some )?{_NOUN} .* (?:it|them))$"
+        ),
+        r"\1 with \2",
+    ),
     # "us", "we": the ego vehicle ("vehicles in front of us")
     (re.compile(r"(?<= )us\b"), "the ego vehicle"),
     # a manoeuvre with no road user named is a vehicle's ("hard braking events")
@@ -639,12 +659,33 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
 )
 
 
+def _ing_forms(text: str) -> str:
+    """``text`` with verbs in the base or present form put in the -ing form the tables read.
+
+    "a car turns left" -> "a car turning left", "car change lane to the left" -> "car changing lane
+    to the left"; a noun or adjective of the same spelling stays ("a right turn", "stop sign", "the
+    brakes", "speed limit"), and so does a verb that needs its particle and lacks it ("speed").
+    """
+    words = text.split(" ")
+    for i, word in enumerate(words):
+        form = VERB_FORMS.get(word)
+        before = words[i - 1] if i > 0 else ""
+        after = words[i + 1] if i + 1 < len(words) else ""
+        if form is None or i == 0 or before in VERB_BLOCKERS_BEFORE or after in VERB_BLOCKERS_AFTER:
+            continue
+        if form in VERB_PARTICLES and after not in VERB_PARTICLES[form]:
+            continue
+        words[i] = form
+    return " ".join(words)
+
+
 def _reworded(text: str) -> str:
     """``text`` with :data:`_REWORDINGS` applied and a shared relation verb's object repeated.
 
     "vehicles approaching and facing a stopped car" -> "vehicles approaching a stopped car facing
     a stopped car", so each verb is read as its own relation.
     """
+    text = _ing_forms(text)
     for pattern, replacement in _REWORDINGS:
         text = pattern.sub(replacement, text)
     return _SHARED_VERB.sub(lambda m: f"{m['v1']} {m['obj']} {m['v2']} {m['obj']}", text)
