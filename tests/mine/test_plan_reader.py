@@ -192,6 +192,14 @@ def _referred(description: str) -> set[str]:
         ),
         ("cars with a sideways acceleration of more than 2 m/s^2 to the left", {"changer"}),
         ("buses that speed up strongly, more than 1 m/s^2", {"bus"}),  # 1.5 m/s^2
+        # questions and requests before the description, a clause after "while", a U-turn
+        ("which cars are turning right?", {"turner"}),
+        ("are there pedestrians on the crosswalk?", {"ped"}),
+        ("I need cars that are changing lanes", {"changer"}),
+        ("show me buses accelerating", {"bus"}),
+        ("a car that is moving while a pedestrian crosses in front of it", {"lead"}),
+        ("a car that is stopped while a pedestrian crosses in front of it", set()),
+        ("cars making a u-turn", {"turner"}),  # a turn, whichever way
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:

@@ -699,6 +699,7 @@ PHRASES: tuple[Phrase, ...] = (
         *STOPPED,
     ),
     Phrase(r"(?:making|taking|doing|performing) an? (?P<dir>left|right)(?: turn| hand turn)?", *_TURNING),
+    Phrase(r"(?:(?:making|taking|doing|performing|executing) an? u-?turn|u-?turning)", "turning"),
     Phrase(r"turning (?:to the )?(?P<dir>left|right)", *_TURNING),
     Phrase(_NOT + r"(?:making a turn|turning)", "turning"),
     Phrase(

@@ -54,7 +54,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/17"
+PLAN_READER_VERSION = "plan-reader/18"
 
 
 @dataclass
@@ -478,9 +478,11 @@ def _leading_subject(description: str) -> tuple[re.Match[str] | None, re.Match[s
 
 #: "find (all) (instances of)": words that ask for the result rather than describe it.
 _SEARCH_VERB = re.compile(
-    r"^(?:please )?(?:retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me|return|select"
-    r"|extract|locate)(?: (?:all|every|any|the))?(?: (?:instances|cases|examples|occurrences|situations"
-    r"|scenarios|scenes|frames|moments|events) (?:of|where|with|in which))?\s+"
+    r"^(?:please )?(?:(?:i |we )?(?:need|want|would like|am looking for|'m looking for|are looking for)"
+    r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
+    r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any)"
+    r"(?: (?:all|every|any|the|an?))?(?: (?:instances|cases|examples|occurrences|situations"
+    r"|scenarios|scenes|frames|moments|events|clips) (?:of|where|with|in which))?\s+"
 )
 #: A list of three or more road users ("pedestrians, cyclists or scooters").
 _LIST = re.compile(
@@ -522,7 +524,7 @@ def _normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = " ".join(_listed_road_users(description.lower()).replace(",", " ").split()).rstrip(".!")
+    text = " ".join(_listed_road_users(description.lower()).replace(",", " ").split()).rstrip(".!?")
     # "jaywalkers, i.e. pedestrians on the road ...": the definition after "i.e." when it names a
     # road user first
     _, ie, definition = text.partition(" i.e. ")
@@ -638,6 +640,8 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         r"\1 with \2",
     ),
+    # "a car that is stopped while a pedestrian crosses in front of it": the same, after "while"
+    (re.compile(rf" (?:while|as|when|whilst) ((?:an? |the |some )?{_NOUN} .* (?:it|them))$"), r" with \1"),
     # "us", "we": the ego vehicle ("vehicles in front of us")
     (re.compile(r"(?<= )us\b"), "the ego vehicle"),
     # a manoeuvre with no road user named is a vehicle's ("hard braking events")
