@@ -117,6 +117,7 @@ SPLITS: tuple[str, ...] = (
     "fresh8",
     "fresh9",
     "fresh10",
+    "fresh12",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
