@@ -117,6 +117,7 @@ SPLITS: tuple[str, ...] = (
     "fresh8",
     "fresh9",
     "fresh10",
+    "fresh11",
     "fresh12",
 )
 
