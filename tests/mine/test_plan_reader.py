@@ -200,6 +200,18 @@ def _referred(description: str) -> set[str]:
         ("a car that is moving while a pedestrian crosses in front of it", {"lead"}),
         ("a car that is stopped while a pedestrian crosses in front of it", set()),
         ("cars making a u-turn", {"turner"}),  # a turn, whichever way
+        # after the fresh11/fresh12 runs (plan-reader/19): "speeds up" after "bus", "makes a
+        # turn", "doing more than X mph", "in a lane", a distance in a relative clause, contractions,
+        # a clause with no road user before it, "close to" at the default 10 m ("very close" 5 m)
+        ("A bus speeds up", {"bus"}),
+        ("cars doing more than 11 m/s", {"oncoming", "overtaker"}),
+        ("pedestrians standing in a lane", {"ped"}),  # crossing the road on the crosswalk
+        ("cars that aren't parked", {"changer", "lead", "oncoming", "overtaker", "turner"}),
+        ("cars turning somewhere that isn't near an intersection", {"turner"}),  # its turn's south end
+        ("cars close to the ego vehicle", {"oncoming", "overtaker", "parked"}),  # 7.2 m at most
+        ("cars very close to the ego vehicle", {"overtaker"}),  # 3.6 m
+        ("a car overtakes the ego vehicle on its left", {"overtaker"}),
+        ("a car that is moving while a pedestrian is walking across in front of it", {"lead"}),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -251,6 +263,10 @@ def test_a_distance_after_moving_toward_limits_how_far() -> None:
     )
     assert "max_distance=10" in _program("cars approaching a pedestrian within 10 m")
     assert "near_intersection(" in _program("cars stopped at an intersection")  # on it or before it
+    assert "heading_toward(subject, related_1, log_dir, max_distance=20)" in _program(
+        "vehicles heading toward a pedestrian who is less than 20 m away"
+    )
+    assert "turning(subject, log_dir, direction='right')" in _program("The ego vehicle makes a right turn")
 
 
 def test_a_cut_in_is_a_crossing_of_the_line_ahead_of_the_one_cut_off() -> None:

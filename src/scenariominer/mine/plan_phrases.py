@@ -4,7 +4,7 @@ Each table maps English phrasing to the mining predicates: road users (:data:`CA
 their adjectives (:data:`MODIFIERS`) and the phrases after the subject (:data:`PHRASES`: motions,
 places on the map, relations to other road users). A stated number is used in the predicate's
 unit; a phrase without one takes the predicate's default (RefAV's), unless the phrase itself says
-how much ("fast" 10 m/s, "close to" 5 m, "braking hard" -3 m/s^2, "directly ahead" 1 m aside).
+how much ("fast" 10 m/s, "very close to" 5 m, "braking hard" -3 m/s^2, "directly ahead" 1 m aside).
 Pure data: the reader compiles the patterns and applies them.
 """
 
@@ -164,11 +164,13 @@ VERB_FORMS: dict[str, str] = {
     **{w: "slowing" for w in ("slow", "slows")},
     **{w: "speeding" for w in ("speed", "speeds")},
     **{w: "tailgating" for w in ("tailgate", "tailgates")},
+    **{w: "making" for w in ("make", "makes")},
+    **{w: "taking" for w in ("take", "takes")},
 }
 #: Words before which a verb form is a noun or an adjective instead ("a right *turn*", "*stop*
 #: sign", "the *brakes*", "a *slow* car").
 VERB_BLOCKERS_BEFORE = frozenset(
-    {"a", "an", "the", "right", "left", "u", "bus", "full", "sudden", "momentary", "brief", "short", "to"}
+    {"a", "an", "the", "right", "left", "u", "full", "sudden", "momentary", "brief", "short", "to"}
     | {"their", "its", "his", "her", "no", "hard", "emergency", "lane", "temporary", "complete", "crawling"}
     | {"of", "for"}
 )
@@ -181,7 +183,7 @@ VERB_PARTICLES = {"speeding": ("up",), "slowing": ("down",), "changing": ("lane"
 FILLERS = frozenset(
     {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
     | {"while", "also", "currently", "there", "driving", "standing"}
-    | {"located", "situated", "positioned", "present", "visible"}
+    | {"located", "situated", "positioned", "present", "visible", "sitting", "lying", "somewhere"}
     | {"it", "they", "does", "do"}
 )
 
@@ -211,7 +213,8 @@ class Phrase:
 _NUMBER = r"\d+(?:\.\d+)?"
 _DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
 _SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})?"
-_GOING = r"(?:(?:moving|going|driving|travell?ing) )?"
+_SPEED_WITH_UNIT = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})"
+_GOING = r"(?:(?:moving|going|driving|travell?ing|doing) )?"
 _HAVE = r"(?:that have|that has|having|with)"
 _CROSSWALK = (
     r"(?:a |the |any )?(?:marked |painted |designated )?(?:crosswalk|zebra crossing|pedestrian crossing"
@@ -437,6 +440,11 @@ PHRASES: tuple[Phrase, ...] = (
         _GOING + r"(?:faster than|above|over|at more than|exceeding|at over) " + _SPEED,
         "has_velocity", "min_velocity={speed}",
     ),
+    # "doing more than 10 mph": a speed, since the unit says so
+    Phrase(
+        r"(?:moving|going|driving|travell?ing|doing) (?:more than|at least) " + _SPEED_WITH_UNIT,
+        "has_velocity", "min_velocity={speed}",
+    ),
     Phrase(
         _GOING + r"(?:slower than|below|under|at less than) " + _SPEED,
         "has_velocity", "max_velocity={speed}",
@@ -452,6 +460,12 @@ PHRASES: tuple[Phrase, ...] = (
         "being_crossed_by", direction="forward",
     ),
     Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
+    # "with a vehicle heading toward them": the other road user moves toward the subject
+    Phrase(
+        _HAVE + r" {obj} (?:heading|moving|driving|coming|going|walking|riding) (?:straight |directly )?"
+        r"(?:towards?|at) (?:them|it)",
+        "heading_toward", reverse=True,
+    ),
     # a cut-in: the other road user crosses the line straight ahead of X's front bumper
     Phrase(
         r"(?:cutting (?:in )?(?:in front of|ahead of)|cutting off|cutting into the path of) {obj}",
@@ -465,7 +479,8 @@ PHRASES: tuple[Phrase, ...] = (
     # overtaking: the overtaker crosses the other's left side from behind to ahead (clockwise)
     Phrase(r"(?:overtaking|passing) {obj} on the right", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right", reverse=True),
-    Phrase(r"(?:overtaking|passing) {obj}(?: on the left)?", "being_crossed_by",
+    Phrase(r"(?:overtaking|passing) {obj}(?: on (?:the|its|their) left(?: side| hand side)?)?",
+            "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", reverse=True),
     Phrase(r"being (?:overtaken|passed) on (?:the|their|its) right(?: side)? by {obj}", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
@@ -608,6 +623,7 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?: or (?:a |the )?(?:parking (?:lot|area|garage)|car park|driveway)s?)?",
         "parking lot",
     ),
+    Phrase(r"(?P<neg>not (?:near|close to|at)|away from|far from) " + _INTERSECTION, "near_intersection"),
     Phrase(_NEAR + " " + _INTERSECTION, "near_intersection"),
     Phrase(
         r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
@@ -633,6 +649,11 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
     Phrase(r"(?:on|in) (?:the |a )?(?:road|street|roadway|carriageway)", "on_road"),
+    # "in a lane" of no named type: on the road (the lanes are the road)
+    Phrase(
+        r"(?:in|on|inside|within|blocking) (?:a |the )?(?:travel |traffic )?lanes?(?! (?:as|of|with))",
+        "on_road",
+    ),
     Phrase(r"in traffic", None),
     # the logs' own frame: "buses *driving through the scene*" (moving), "cars *in the scene*"
     Phrase(
@@ -670,8 +691,11 @@ PHRASES: tuple[Phrase, ...] = (
     # bare relations (after the map phrases)
     Phrase(r"(?:near|next to|beside|alongside|nearby|around) " + _QUANTITY + "{obj}", "near_objects",
             "distance_thresh=10"),
-    Phrase(r"(?:close to|very close to|in close proximity to) " + _QUANTITY + "{obj}", "near_objects",
+    # "close to X" states no distance: the predicate's default, as "near" (two independent reference
+    # writers took it so); "very close to" says how close
+    Phrase(r"(?:very close to|in close proximity to|right up against) " + _QUANTITY + "{obj}", "near_objects",
             "distance_thresh=5"),
+    Phrase(r"(?:close to|close by) " + _QUANTITY + "{obj}", "near_objects", "distance_thresh=10"),
     # motions of the subject
     Phrase(
         r"(?:slamming on the brakes|braking hard|braking heavily|hard braking|heavy braking|emergency braking"

@@ -54,7 +54,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/18"
+PLAN_READER_VERSION = "plan-reader/19"
 
 
 @dataclass
@@ -220,12 +220,15 @@ def _clause_after_other(rest: str, subject_words: str) -> bool:
     singular road user just before it, so the clause reads as the subject's.
     """
     for found in _RELATIVE_CLAUSE.finditer(rest):
+        if _ENDS_WITH_ROAD_USER.search(found.group("before")) is None:
+            continue  # "turning somewhere that is not ...": no road user before it but the subject
         before = found.group("before").split()
         if not found.group("verb") or not _plural(subject_words) or (before and _plural(before[-1])):
             return True
     return False
 
 
+_ENDS_WITH_ROAD_USER = re.compile(rf"(?<![\w-])(?:{_CATEGORY_RE})$")
 _BEING_AFTER_OBJECT = re.compile(rf"(?<![\w-]){_NP} (?:is )?being(?![\w-])")
 
 
@@ -636,12 +639,33 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (
         re.compile(
             rf"^((?:an? |the |all )?{_NOUN}) (?:that|which|where)"
-            rf" ((?:an? |the |some )?{_NOUN} .* (?:it|them))$"
+            rf" ((?:an? |the |some )?{_NOUN}) (?:is |are )?(.* (?:it|them))$"
         ),
-        r"\1 with \2",
+        r"\1 with \2 \3",
     ),
     # "a car that is stopped while a pedestrian crosses in front of it": the same, after "while"
-    (re.compile(rf" (?:while|as|when|whilst) ((?:an? |the |some )?{_NOUN} .* (?:it|them))$"), r" with \1"),
+    (
+        re.compile(
+            rf" (?:while|as|when|whilst) ((?:an? |the |some )?{_NOUN}) (?:is |are )?(.* (?:it|them))$"
+        ),
+        r" with \1 \2",
+    ),
+    # contractions: "aren't parked" -> "are not parked"
+    (re.compile(r"\b(are|is|was|were|do|does|did|has|have)n't\b"), r"\1 not"),
+    # "a pedestrian who is less than 20 m away": the distance read as the pedestrian's
+    (
+        re.compile(
+            r"\b(?:who|which|that) (?:is|are) (?=(?:within|less than|under|no more than|closer than) \d)"
+        ),
+        "",
+    ),
+    # "with more than 2 m/s² of lateral acceleration": the usual order
+    (
+        re.compile(
+            r"\b(more than|over|above|at least) (\d+(?:\.\d+)?) ?(m/s2|m/s²|m/s\^2) of lateral acceleration"
+        ),
+        r"a lateral acceleration of \1 \2 \3",
+    ),
     # "us", "we": the ego vehicle ("vehicles in front of us")
     (re.compile(r"(?<= )us\b"), "the ego vehicle"),
     # a manoeuvre with no road user named is a vehicle's ("hard braking events")
@@ -677,6 +701,8 @@ def _ing_forms(text: str) -> str:
         after = words[i + 1] if i + 1 < len(words) else ""
         if form is None or i == 0 or before in VERB_BLOCKERS_BEFORE or after in VERB_BLOCKERS_AFTER:
             continue
+        if before == "bus" and form == "stopping":
+            continue  # a bus stop
         if form in VERB_PARTICLES and after not in VERB_PARTICLES[form]:
             continue
         words[i] = form
