@@ -119,6 +119,7 @@ SPLITS: tuple[str, ...] = (
     "fresh10",
     "fresh11",
     "fresh12",
+    "fresh13",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
