@@ -212,6 +212,10 @@ def _referred(description: str) -> set[str]:
         ("cars very close to the ego vehicle", {"overtaker"}),  # 3.6 m
         ("a car overtakes the ego vehicle on its left", {"overtaker"}),
         ("a car that is moving while a pedestrian is walking across in front of it", {"lead"}),
+        # "with no X ..." / "without X ...": the relation negated (plan-reader/20)
+        ("the ego vehicle with no car directly ahead of it within 20 m", set()),  # the lead, 15 m
+        ("the ego vehicle with no car directly ahead of it within 10 m", {"ego"}),
+        ("vehicles with no other vehicle within 20 metres", {"bus", "oncoming", "turner"}),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -267,6 +271,14 @@ def test_a_distance_after_moving_toward_limits_how_far() -> None:
         "vehicles heading toward a pedestrian who is less than 20 m away"
     )
     assert "turning(subject, log_dir, direction='right')" in _program("The ego vehicle makes a right turn")
+
+
+def test_a_relation_with_no_other_road_user_is_negated_where_it_can_be() -> None:
+    program = _program("cars without a pedestrian within 10 m")
+    assert "scenario_not(near_objects)(subject, related_1, log_dir, distance_thresh=10)" in program
+    plan = read_plan("cars without a pedestrian within 10 m")
+    assert plan is not None and "scenario_not(...) of near_objects" in plan_text(plan)
+    assert read_plan("vehicles with no other vehicles on both sides") is None  # several calls: the model
 
 
 def test_a_cut_in_is_a_crossing_of_the_line_ahead_of_the_one_cut_off() -> None:

@@ -133,7 +133,10 @@ def plan_text(plan: dict[str, Any]) -> str:
         if rel.get("any_direction"):  # "on either side": the relation in any of these directions
             settings += f", direction={' or '.join(repr(d) for d in rel['any_direction'])}"
         settings += f", {rel['argument']}" if rel.get("argument") else ""
-        lines.append(f"- relation: {rel['function']}({rel['subject_words']}, {rel['other_words']}{settings})")
+        negated = "scenario_not(...) of " if rel.get("negated") else ""
+        lines.append(
+            f"- relation: {negated}{rel['function']}({rel['subject_words']}, {rel['other_words']}{settings})"
+        )
     for cond in plan.get("conditions", []):
         lines.append(f"- condition: {_condition_text(cond, plan['subject_words'])}")
     for num in plan.get("numbers", []):

@@ -215,7 +215,8 @@ _DIST = rf"(?P<dist>{_NUMBER}) ?(?:m|meters?|metres?)"
 _SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})?"
 _SPEED_WITH_UNIT = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})"
 _GOING = r"(?:(?:moving|going|driving|travell?ing|doing) )?"
-_HAVE = r"(?:that have|that has|having|with)"
+#: "with X", and "with no X" / "without X" (``no`` group: the relation must not hold)
+_HAVE = r"(?:(?:that have|that has|having|with)(?P<no> no)?|(?P<without>without))"
 _CROSSWALK = (
     r"(?:a |the |any )?(?:marked |painted |designated )?(?:crosswalk|zebra crossing|pedestrian crossing"
     r"|designated crossing)s?"

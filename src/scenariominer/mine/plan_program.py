@@ -46,7 +46,7 @@ from scenariominer.mine.plan_reader import one_or_many, subject_categories
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/9"
+PLAN_PROGRAM_VERSION = "plan-program/10"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -289,6 +289,13 @@ def _relation_call(
         if anchor in (None, "subject"):
             raise PlanCompileError(f"relation {name}: no object other than the subject to look from")
         return f"{name}({anchor}, {current}, log_dir{kwargs})"
+    if rel.get("negated"):
+        # "with no vehicle ahead" (phrase rules only): the subject's timestamps where it does not hold
+        if other in (None, "subject") or rel_subject not in (None, "subject") or name in _RETURNS_RELATED:
+            raise PlanCompileError(
+                f"relation {name}: only a relation of the subject to another object can be negated"
+            )
+        return f"scenario_not({name})({current}, {other}, log_dir{kwargs})"
     if rel_subject not in (None, "subject") and other in (None, "subject"):
         # the plan reads the relation from the other object's side: the subject is its target
         return f"reverse_relationship({name})({rel_subject}, {current}, log_dir{kwargs})"

@@ -54,7 +54,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/19"
+PLAN_READER_VERSION = "plan-reader/20"
 
 
 @dataclass
@@ -84,6 +84,7 @@ class _Reading:
         argument: str | None = None,
         reverse: bool = False,
         any_direction: tuple[str, ...] = (),
+        negated: bool = False,
     ) -> None:
         """A relation of the subject to the road users ``other`` (read by :func:`_object`)."""
         words = self._object(other)
@@ -97,6 +98,8 @@ class _Reading:
         }
         if any_direction:
             relation["any_direction"] = list(any_direction)
+        if negated:  # "with no vehicle ahead": the subject's timestamps without one
+            relation["negated"] = True
         self.relations.append(relation)
 
     def _object(self, phrase: str) -> str:
@@ -256,12 +259,20 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
     if "obj" in groups or phrase.to_subject or phrase.implied:
         implied = _last_other(reading) if phrase.implied == LAST else phrase.implied
         other = groups.get("obj", implied or reading.subject_phrase or reading.subject_words)
+        negated = "no" in groups or "without" in groups
+        if negated and (phrase.reverse or phrase.sides or phrase.function in _NOT_NEGATABLE):
+            raise _Unread(found.group(0))  # "with no X on both sides": the model reads it
         if phrase.any_side:
             reading.relate(phrase.function, other, argument=argument, any_direction=phrase.sides)
             return
         for direction in phrase.sides or (phrase.direction.format(**groups) if phrase.direction else None,):
             reading.relate(
-                phrase.function, other, direction=direction, argument=argument, reverse=phrase.reverse
+                phrase.function,
+                other,
+                direction=direction,
+                argument=argument,
+                reverse=phrase.reverse,
+                negated=negated,
             )
     else:
         reading.condition(phrase.function, argument, negated="neg" in groups)
@@ -289,6 +300,10 @@ def _leave_out(reading: _Reading, words: str) -> None:
         raise _Unread(words)
     for category in _categories(found.group("noun")):
         reading.condition("is_category", f"category='{category}'", negated=True)
+
+
+#: Relations a "with no X" cannot negate (they return the other road users, or build several calls).
+_NOT_NEGATABLE = frozenset({"get_objects_in_relative_direction", "in_line"})
 
 
 def _last_other(reading: _Reading) -> str:
