@@ -120,6 +120,7 @@ SPLITS: tuple[str, ...] = (
     "fresh11",
     "fresh12",
     "fresh13",
+    "fresh14",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
