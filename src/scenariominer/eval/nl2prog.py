@@ -121,6 +121,7 @@ SPLITS: tuple[str, ...] = (
     "fresh12",
     "fresh13",
     "fresh14",
+    "fresh15",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
