@@ -216,6 +216,16 @@ def _referred(description: str) -> set[str]:
         ("the ego vehicle with no car directly ahead of it within 20 m", set()),  # the lead, 15 m
         ("the ego vehicle with no car directly ahead of it within 10 m", {"ego"}),
         ("vehicles with no other vehicle within 20 metres", {"bus", "oncoming", "turner"}),
+        # plan-reader/21: "pointed at X", "the opposite way to X", "walking across a crosswalk" (at
+        # it and moving), "across the front of X", "behind X in the same lane" (behind and in its
+        # lane), "not in the drivable area" before "in the drivable area", "X's direction of travel"
+        ("cars pointed at the ego car", {"changer", "oncoming", "overtaker", "parked"}),
+        ("cars travelling the opposite way to the ego vehicle", {"oncoming", "parked"}),
+        ("pedestrians walking across a crosswalk", {"ped"}),
+        ("pedestrians walking across the front of a car", {"ped"}),
+        ("cars behind the ego vehicle in the same lane", {"changer"}),
+        ("moving cars that are not in the drivable area", set()),
+        ("cars moving perpendicular to the ego's direction of travel", {"turner"}),
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:
@@ -271,6 +281,12 @@ def test_a_distance_after_moving_toward_limits_how_far() -> None:
         "vehicles heading toward a pedestrian who is less than 20 m away"
     )
     assert "turning(subject, log_dir, direction='right')" in _program("The ego vehicle makes a right turn")
+
+
+def test_a_stated_deceleration_replaces_the_one_of_braking_hard() -> None:
+    program = _program("cars braking hard, decelerating more than 2 m/s²")
+    assert "max_accel=-2" in program and "max_accel=-3" not in program
+    assert "min_accel=-inf, max_accel=-3.0" in _program("cars braking hard")
 
 
 def test_a_relation_with_no_other_road_user_is_negated_where_it_can_be() -> None:

@@ -88,7 +88,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:traffic |construction )?cones?", ("CONSTRUCTION_CONE",)),
     (r"(?:construction )?barrels?", ("CONSTRUCTION_BARREL",)),
     (r"stop signs?", ("STOP_SIGN",)),
-    (r"signs?", ("SIGN",)),
+    (r"(?:traffic |road |street )?signs?", ("SIGN",)),
     (r"objects?|things?|anything|something|everything|road users?|actors?|agents?", ("ANY",)),
     # last: "traffic" begins other road users' names ("traffic cone", "traffic officer")
     (r"traffic", ("VEHICLE",)),
@@ -183,7 +183,7 @@ VERB_PARTICLES = {"speeding": ("up",), "slowing": ("down",), "changing": ("lane"
 FILLERS = frozenset(
     {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
     | {"while", "also", "currently", "there", "driving", "standing"}
-    | {"located", "situated", "positioned", "present", "visible", "sitting", "lying", "somewhere"}
+    | {"located", "situated", "positioned", "present", "visible", "sitting", "lying", "somewhere", "still"}
     | {"it", "they", "does", "do"}
 )
 
@@ -495,7 +495,7 @@ PHRASES: tuple[Phrase, ...] = (
             "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
     Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
-    Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?(?:closely )?behind) {obj}"
+    Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?closely behind) {obj}"
             r" in (?:the )?same lane",
             "following"),
     Phrase(r"(?:following|tailgating|(?:following |driving |riding |travell?ing )?closely behind"
@@ -516,7 +516,8 @@ PHRASES: tuple[Phrase, ...] = (
         "heading_toward",
     ),
     Phrase(
-        r"(?:(?:directly )?facing(?: towards?)?|looking (?:towards?|at)|turned towards?) {obj}",
+        r"(?:(?:directly )?facing(?: towards?)?|looking (?:towards?|at)|turned towards?"
+        r"|(?:pointed|pointing|aimed|aiming) (?:directly |straight )?(?:at|towards?)) {obj}",
         "facing_toward",
     ),
     Phrase(
@@ -635,18 +636,23 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
     Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
             "at_pedestrian_crossing"),
-    Phrase(r"(?:on|in|inside|within|crossing|(?:driving |walking |going )?across) " + _CROSSWALK,
+    # "walking across a crosswalk": at it (the predicate's default) and moving
+    Phrase(
+        r"(?:crossing|(?:walking |running |riding )?(?<!driving )(?<!going )across) " + _CROSSWALK,
+        "crossing at crosswalk",
+    ),
+    Phrase(r"(?:on|in|inside|within|(?:driving|going) across) " + _CROSSWALK,
             "at_pedestrian_crossing", "within_distance=0"),
     Phrase(r"(?:at|using) " + _CROSSWALK, "at_pedestrian_crossing"),
     Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
+    Phrase(r"(?P<neg>off (?:the |a )?(?:road|street)|not on (?:the |a )?(?:road|street))", "on_road"),
+    Phrase(
+        r"(?P<neg>outside|off|not (?:on|in)) the drivable (?:area|surface|space|region)", "in_drivable_area"
+    ),
     Phrase(
         r"(?:(?:placed|located|sitting|lying|left|standing|positioned|situated) )?(?:on|in|within|inside)"
         r" the drivable (?:area|surface|space|region|road surface)",
         "in_drivable_area",
-    ),
-    Phrase(r"(?P<neg>off (?:the |a )?(?:road|street)|not on (?:the |a )?(?:road|street))", "on_road"),
-    Phrase(
-        r"(?P<neg>outside|off|not (?:on|in)) the drivable (?:area|surface|space|region)", "in_drivable_area"
     ),
     Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
     Phrase(r"(?:on|in) (?:the |a )?(?:road|street|roadway|carriageway)", "on_road"),

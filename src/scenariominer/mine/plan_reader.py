@@ -37,6 +37,7 @@ from scenariominer.mine.plan_phrases import (
     EGO,
     EXCEPT,
     FILLERS,
+    HARD_BRAKING,
     LAST,
     MODIFIERS,
     ORDINALS,
@@ -54,7 +55,7 @@ from scenariominer.mine.plan_phrases import (
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/20"
+PLAN_READER_VERSION = "plan-reader/21"
 
 
 @dataclass
@@ -127,6 +128,10 @@ _COMPOUND: dict[str, tuple[tuple[str, str | None, bool], ...]] = {
     "parking lot": (("in_drivable_area", None, False), ("on_road", None, True)),
     # "crossing the street", no one named: on the road and moving
     "crossing": (("on_road", None, False), ("has_velocity", "min_velocity=0.5", False)),
+    "crossing at crosswalk": (
+        ("at_pedestrian_crossing", None, False),
+        ("has_velocity", "min_velocity=0.5", False),
+    ),
     # swerving: a sideways acceleration of 2 m/s^2 or more (the motion predicates' "large"), not
     # from a turn
     "swerving": (("turning", None, True), ("lateral_acceleration_either_way", "accel=2", False)),
@@ -279,14 +284,25 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
 
 
 def _stated_speed_wins(reading: _Reading) -> None:
-    """Drop the 5 m/s of "slow" when the description states its own upper speed ("under 30 km/h")."""
-    slow = {"function": SLOW[0], "negated": False, "argument": SLOW[1]}
-    stated = any(
-        c["function"] == SLOW[0] and "max_velocity" in (c["argument"] or "") and c != slow
-        for c in reading.conditions
-    )
-    if stated:
-        reading.conditions[:] = [c for c in reading.conditions if c != slow]
+    """Drop a word's own number when the description states one for the same thing.
+
+    "slow cars under 30 km/h": the 5 m/s of "slow" goes; "braking hard, decelerating more than
+    2 m/s²": the -3 m/s² of "hard" goes (and the -1 of a bare "braking").
+    """
+    for (function, argument), key in ((SLOW, "max_velocity"), (HARD_BRAKING, "max_accel")):
+        defaults = [{"function": function, "negated": False, "argument": argument}]
+        if function == "accelerating":
+            defaults.append({"function": function, "negated": False, "argument": _BRAKING_DEFAULT})
+        stated = any(
+            c["function"] == function and key in (c["argument"] or "") and c not in defaults
+            for c in reading.conditions
+        )
+        if stated:
+            reading.conditions[:] = [c for c in reading.conditions if c not in defaults]
+
+
+#: The deceleration of a bare "braking" / "slowing down".
+_BRAKING_DEFAULT = "min_accel=-inf, max_accel=-1.0"
 
 
 def _leave_out(reading: _Reading, words: str) -> None:
@@ -664,6 +680,16 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
             rf" (?:while|as|when|whilst) ((?:an? |the |some )?{_NOUN}) (?:is |are )?(.* (?:it|them))$"
         ),
         r" with \1 \2",
+    ),
+    # "the opposite way to X", "across the front of X", "X's direction of travel"
+    (re.compile(r"\b(?:in )?the (opposite|same) way (to|as)\b"), r"in the \1 direction \2"),
+    (re.compile(r"\b(?:across|in) the front of\b"), "in front of"),
+    (
+        re.compile(
+            r"\b((?:the )?ego(?: vehicle| car)?)'s? (?:direction of travel|travel direction|heading"
+            r"|direction)\b"
+        ),
+        r"\1",
     ),
     # contractions: "aren't parked" -> "are not parked"
     (re.compile(r"\b(are|is|was|were|do|does|did|has|have)n't\b"), r"\1 not"),
