@@ -122,6 +122,7 @@ SPLITS: tuple[str, ...] = (
     "fresh13",
     "fresh14",
     "fresh15",
+    "fresh16",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
