@@ -226,6 +226,13 @@ def _referred(description: str) -> set[str]:
         ("cars behind the ego vehicle in the same lane", {"changer"}),
         ("moving cars that are not in the drivable area", set()),
         ("cars moving perpendicular to the ego's direction of travel", {"turner"}),
+        # plan-reader/22: "changing into the lane on its left", "trailing X", "pointing right at us
+        # from under D away", "momentarily at a standstill" (not the parked)
+        ("car changing into the lane on its left", {"changer"}),
+        ("cars trailing the ego in the same lane", {"changer"}),
+        ("cars pointing right at us from under 10 m away", {"overtaker"}),
+        ("buses momentarily at a standstill", set()),  # the bus never stops
+        ("cars momentarily at a standstill", set()),  # the parked car is not momentarily stopped
     ],
 )
 def test_a_read_description_finds_the_objects_it_describes(description: str, expected: set[str]) -> None:

@@ -54,7 +54,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"city bus(?:es)?", ("BUS",)),
     (r"bus(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
     (r"box trucks?|delivery trucks?", ("BOX_TRUCK",)),
-    (r"truck cabs?|semi[- ]trucks?|tractor units?", ("TRUCK_CAB",)),
+    (r"truck cabs?|semi[- ]trucks?|tractor units?|tractor cabs?", ("TRUCK_CAB",)),
     (r"trucks?|lorr(?:y|ies)", ("TRUCK", "BOX_TRUCK", "TRUCK_CAB")),
     (r"(?:large|big|heavy) vehicles?", ("LARGE_VEHICLE",)),
     (
@@ -382,7 +382,8 @@ PHRASES: tuple[Phrase, ...] = (
         implied=EGO,
     ),
     Phrase(
-        r"(?:pointed|facing|pointing) (?:at|towards?) {obj} (?:less than|within|under) "
+        r"(?:pointed|facing|pointing) (?:right |directly |straight )?(?:at|towards?) {obj}"
+        r" (?:from )?(?:less than|within|under) "
         + _DIST + "(?: away)?",
         "facing_toward", "max_distance={dist}",
     ),
@@ -495,10 +496,10 @@ PHRASES: tuple[Phrase, ...] = (
             "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
     Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
-    Phrase(r"(?:following|tailgating|(?:driving |travell?ing )?closely behind) {obj}"
+    Phrase(r"(?:following|tailgating|trailing|(?:driving |travell?ing )?closely behind) {obj}"
             r" in (?:the )?same lane",
             "following"),
-    Phrase(r"(?:following|tailgating|(?:following |driving |riding |travell?ing )?closely behind"
+    Phrase(r"(?:following|tailgating|trailing|(?:following |driving |riding |travell?ing )?closely behind"
             r"|driving behind) {obj}"
             r"(?: too closely| closely)?", "following"),
     Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
@@ -738,7 +739,7 @@ PHRASES: tuple[Phrase, ...] = (
         "changing_lanes", "direction='{dir}'",
     ),
     Phrase(
-        r"(?:changing lanes?|switching lanes?|moving over|merging) into the lane"
+        r"(?:changing(?: lanes?)?|switching(?: lanes?)?|moving over|merging|moving) into the lane"
         r" (?:on |to )(?:their |its |the )(?P<dir>left|right)",
         "changing_lanes", "direction='{dir}'",
     ),
@@ -754,7 +755,10 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:waiting )?(?:stopped|halted)", *STOPPED_OR_PARKED),
     # at rest at the timestamp, parked objects included (as "stopped")
     # waiting: momentarily stopped, not parked
-    Phrase(r"waiting (?:standing still|at a standstill|not moving|at rest)", *STOPPED),
+    Phrase(
+        r"(?:waiting|momentarily|briefly|temporarily) (?:standing still|at a standstill|not moving|at rest)",
+        *STOPPED,
+    ),
     Phrase(r"(?:standing still|at a standstill|not moving|at rest)", *STOPPED_OR_PARKED),
     # "waiting at a stop sign": stopped there (the place is read by its own phrase)
     Phrase(r"waiting", *STOPPED),
