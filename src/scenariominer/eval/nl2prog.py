@@ -123,6 +123,7 @@ SPLITS: tuple[str, ...] = (
     "fresh14",
     "fresh15",
     "fresh16",
+    "fresh17",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
