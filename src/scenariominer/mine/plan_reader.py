@@ -283,7 +283,7 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
         reading.condition(phrase.function, argument, negated="neg" in groups)
 
 
-def _stated_speed_wins(reading: _Reading) -> None:
+def _stated_numbers_win(reading: _Reading) -> None:
     """Drop a word's own number when the description states one for the same thing.
 
     "slow cars under 30 km/h": the 5 m/s of "slow" goes; "braking hard, decelerating more than
@@ -424,7 +424,7 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         if _ALTERNATIVES.search(rest):
             raise _Unread("or")  # "near X or following Y": alternatives of relations, the model reads them
         rest = _MARKER.sub("", rest)
-        _stated_speed_wins(reading)
+        _stated_numbers_win(reading)
         if group is not None:
             _as_group(reading, int(group.group("size") or _GROUP_SIZE))
         unread = skipped + [word for word in re.findall(r"[\w'/.-]+", rest) if word not in FILLERS]
