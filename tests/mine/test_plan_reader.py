@@ -385,9 +385,62 @@ def test_a_relative_clause_agreeing_with_the_plural_subject_is_read_as_the_subje
     program = _program("pedestrians within 15 m of the ego vehicle that are not at a crosswalk")
     assert "scenario_not(at_pedestrian_crossing)(subject, log_dir)" in program
     assert "near_objects(step_1, related_1, log_dir, distance_thresh=15)" in program
-    # after a plural road user, or with "is", the clause may be that road user's: the model reads it
-    assert read_plan("vehicles near pedestrians that are walking", partial=True) is None
-    assert read_plan("cars that are stopped near a bus that is turning", partial=True) is None
+    # after a plural road user, or with "is", the clause is that road user's: its own condition
+    program = _program("vehicles near pedestrians that are walking")
+    assert "related_1 = has_velocity(related_1, log_dir, min_velocity=0.5)" in program
+    program = _program("cars that are stopped near a bus that is turning")
+    assert "related_1 = turning(related_1, log_dir)" in program
+    assert "stationary(subject, log_dir)" in program
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # ped walks across the crosswalk, ped2 (and the pair pedA, pedB) stand: the clause after
+        # "a pedestrian" picks which of them count
+        ("vehicles near a pedestrian", {"bus", "ego", "changer", "oncoming", "lead", "overtaker", "turner"}),
+        ("vehicles near a pedestrian who is standing still", {"lead", "bus", "ego", "turner"}),
+        ("vehicles near a pedestrian who is walking", {"ego", "changer", "oncoming", "lead", "overtaker"}),
+        (
+            "vehicles approaching a pedestrian who is on a crosswalk",
+            {"bus", "ego", "changer", "oncoming", "lead", "overtaker"},
+        ),
+    ],
+)
+def test_a_clause_after_another_road_user_conditions_that_road_user(
+    description: str, expected: set[str]
+) -> None:
+    assert _referred(description) == expected
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # a stated lateral acceleration defines the swerve: the turner's 2.5 m/s^2 turn counts
+        ("cars swerving hard to the right, lateral acceleration over 2 m/s²", {"changer", "turner"}),
+        ("cars swerving right", {"changer"}),  # the word alone: not a turn
+        # "beside it": within 4 m, about a lane (the predicate's docstring); the bike rides 3.6 m
+        # to the ego's right, the overtaker passes 3.6 m to its left
+        ("the ego vehicle with a bike right beside it on the right", {"ego"}),
+        ("the ego vehicle with a bike beside it on the left", set()),
+        ("the ego vehicle with a car beside it", {"ego"}),
+    ],
+)
+def test_session_18_readings_find_the_objects_they_describe(description: str, expected: set[str]) -> None:
+    assert _referred(description) == expected
+
+
+def test_trucks_are_avs_truck_category_unless_of_any_kind() -> None:
+    assert "get_objects_of_category(log_dir, category='TRUCK')\n" in _program("trucks turning left")
+    assert "'BOX_TRUCK'" in _program("trucks of any kind turning left")
+    assert "'TRUCK_CAB'" in _program("all kinds of trucks turning left")
+
+
+def test_a_clause_after_another_road_user_naming_a_third_is_left_to_the_model() -> None:
+    assert (
+        read_plan("pedestrian in front of a bicyclist who is to the left of a vehicle", partial=True) is None
+    )
+    assert read_plan("vehicles with a bike that is to their right", partial=True) is None
 
 
 def test_examples_after_the_description_are_not_read() -> None:

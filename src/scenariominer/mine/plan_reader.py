@@ -27,7 +27,6 @@ Units are converted (km/h, mph, "meters per second" to m/s).
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -40,22 +39,22 @@ from scenariominer.mine.plan_phrases import (
     HARD_BRAKING,
     LAST,
     MODIFIERS,
-    ORDINALS,
     PHRASES,
     SLOW,
     TO_MPS,
-    VERB_BLOCKERS_AFTER,
-    VERB_BLOCKERS_BEFORE,
-    VERB_FORMS,
-    VERB_PARTICLES,
-    WORD_NUMBERS,
     Phrase,
 )
+from scenariominer.mine.plan_wording import CATEGORY_RE as _CATEGORY_RE
+from scenariominer.mine.plan_wording import MODIFIER_RE as _MODIFIER_RE
+from scenariominer.mine.plan_wording import NOUN_PHRASE as _NOUN_PHRASE
+from scenariominer.mine.plan_wording import NP as _NP
+from scenariominer.mine.plan_wording import SUBJECT as _SUBJECT
+from scenariominer.mine.plan_wording import normalised_text as _normalised_text
 
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/22"
+PLAN_READER_VERSION = "plan-reader/23"
 
 
 @dataclass
@@ -69,6 +68,8 @@ class _Reading:
     related: list[dict[str, Any]] = field(default_factory=list)
     relations: list[dict[str, Any]] = field(default_factory=list)
     assumed: list[str] = field(default_factory=list)  # relations a partial reading adds on its own
+    swerve: str | None = None  # the "swerving" word read, if any (its side in the name)
+    stated_lateral: list[dict[str, Any]] = field(default_factory=list)  # lateral accelerations stated
 
     def condition(self, function: str, argument: str | None = None, *, negated: bool = False) -> None:
         """Add a condition on the subject (once: "stopped or nearly stopped" gives one)."""
@@ -150,19 +151,6 @@ class _Unread(ValueError):
     """A phrase the tables do not cover: the description goes to the model."""
 
 
-def _alternation(patterns: Any) -> str:
-    return "|".join(f"(?:{p})" for p in patterns)
-
-
-_CATEGORY_RE = _alternation(p for p, _ in CATEGORY_PHRASES)
-_MODIFIER_RE = _alternation(p for p, _, _ in MODIFIERS)
-#: Words before another road user that carry no condition ("a *lead* vehicle": the relation says it).
-_DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their|lead|leading|preceding)\s+)"
-_NOUN = rf"(?:{_CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{_CATEGORY_RE})){{0,4}}"
-_NOUN_PHRASE = re.compile(rf"{_DETERMINER}*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})")
-_NP = rf"(?:(?:{_DETERMINER}*)(?:(?:{_MODIFIER_RE})\s+)*(?:{_NOUN}))"
-
-
 def _categories(noun: str) -> tuple[str, ...]:
     """The categories of a road-user noun, with "X or (other) Y" as the union of both."""
     found: list[str] = []
@@ -199,9 +187,6 @@ def _speed_mps(value: str, unit: str | None) -> float:
 _COMPILED = tuple(
     (re.compile(r"(?<![\w-])" + p.pattern.replace("{obj}", f"(?P<obj>{_NP})") + r"(?![\w-])"), p)
     for p in PHRASES
-)
-_SUBJECT = re.compile(
-    rf"^\s*(?:(?:all|the|a|an|any|some|every)\s+)*(?P<mods>(?:(?:{_MODIFIER_RE})\s+)*)(?P<noun>{_NOUN})(?![\w-])"
 )
 
 
@@ -281,14 +266,47 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
             )
     else:
         reading.condition(phrase.function, argument, negated="neg" in groups)
+        if phrase.function.startswith("swerving"):
+            reading.swerve = phrase.function
+        elif phrase.function in _LATERAL_FUNCTIONS:
+            reading.stated_lateral.extend(_conditions(phrase.function, argument, "neg" in groups))
+
+
+#: Conditions on a stated lateral acceleration (one side, or either way).
+_LATERAL_FUNCTIONS = frozenset({"has_lateral_acceleration", "lateral_acceleration_either_way"})
+
+
+def _stated_lateral_wins(reading: _Reading) -> None:
+    """A stated lateral acceleration defines the "swerving" of the same description.
+
+    "vehicles swerving hard to the left, lateral acceleration over 2 m/s²": the stated acceleration
+    (to the side "swerving" names) replaces the word's own reading (not turning, 2 m/s² or more).
+    """
+    if reading.swerve is None or not reading.stated_lateral:
+        return
+    own = _conditions(reading.swerve, None, False)
+    stated = list(reading.stated_lateral)
+    side = reading.swerve.removeprefix("swerving").strip()
+    if side:  # "swerving left ..., lateral acceleration over 3": 3 to the left
+        key = "min_accel={}" if side == "left" else "max_accel=-{}"
+        stated = [
+            {**c, "function": "has_lateral_acceleration", "argument": key.format(c["argument"].split("=")[1])}
+            if c["function"] == "lateral_acceleration_either_way" and not c["negated"]
+            else c
+            for c in stated
+        ]
+    kept = [c for c in reading.conditions if c not in own and c not in reading.stated_lateral]
+    reading.conditions[:] = kept + [c for i, c in enumerate(stated) if c not in stated[:i]]
 
 
 def _stated_numbers_win(reading: _Reading) -> None:
     """Drop a word's own number when the description states one for the same thing.
 
     "slow cars under 30 km/h": the 5 m/s of "slow" goes; "braking hard, decelerating more than
-    2 m/s²": the -3 m/s² of "hard" goes (and the -1 of a bare "braking").
+    2 m/s²": the -3 m/s² of "hard" goes (and the -1 of a bare "braking"); a stated lateral
+    acceleration replaces what "swerving" reads (:func:`_stated_lateral_wins`).
     """
+    _stated_lateral_wins(reading)
     for (function, argument), key in ((SLOW, "max_velocity"), (HARD_BRAKING, "max_accel")):
         defaults = [{"function": function, "negated": False, "argument": argument}]
         if function == "accelerating":
@@ -409,10 +427,11 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         reading.conditions.extend(_modifier_conditions(subject.group("mods")))
         rest = " " + text[subject.end() :] + " "
         if _clause_after_other(rest, reading.subject_words) or _BEING_AFTER_OBJECT.search(rest):
-            # a relative clause after another road user ("... a bicyclist who is to the left of a
-            # vehicle", "following a vehicle being overtaken") may describe that road user, not the
-            # subject: the model reads it
-            return None
+            # a relative clause after another road user ("... a pedestrian who is on a crosswalk")
+            # describes that road user: read as its own conditions where it names no one else,
+            # else ("... a bicyclist who is to the left of a vehicle", "following a vehicle being
+            # overtaken") the model reads it
+            return _with_clause_of_other(text, partial=partial)
         added: list[list[dict[str, Any]]] = []  # the conditions each matched phrase added
         for pattern, phrase in _COMPILED:
             while (found := pattern.search(rest)) is not None:
@@ -444,6 +463,36 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
         "read_by": "rules",
         **({"unread": unread, "assumed": reading.assumed} if partial else {}),
     }
+
+
+_CLAUSE_OF_OTHER = re.compile(
+    rf"(?<![\w-])(?P<other>{_NP}) (?:who|which|that) (?:(?:is|are) )?(?P<clause>\S.*)$"
+)
+
+
+def _with_clause_of_other(text: str, *, partial: bool) -> dict[str, Any] | None:
+    """The plan of ``text`` whose relative clause after another road user conditions that one.
+
+    "vehicles approaching a pedestrian who is on a crosswalk": the pedestrian is on a crosswalk (a
+    condition of the related object, as "a *moving* vehicle" is). The clause must read in full as
+    conditions of that road user alone (no other road user in it), else ``None``: the model reads it.
+    """
+    subject = _SUBJECT.match(text)
+    found = _CLAUSE_OF_OTHER.search(text, subject.end() if subject else 1)  # not the subject's own
+    if found is None:
+        return None
+    clause = read_plan(f"{found['other']} {found['clause']}")
+    if clause is None or clause["relations"] or clause["related"] or not clause["conditions"]:
+        return None
+    plan = read_plan(text[: found.end("other")], partial=partial)
+    if plan is None:
+        return None
+    others = [obj for obj in plan["related"] if obj["category"] == clause["subject_category"]]
+    if not others:
+        return None
+    conditions = others[-1]["conditions"]
+    conditions.extend(c for c in clause["conditions"] if c not in conditions)
+    return plan
 
 
 #: Where a matched phrase was (its index in the list of what each phrase added, between marks).
@@ -508,255 +557,3 @@ def _leading_subject(description: str) -> tuple[re.Match[str] | None, re.Match[s
     if group is not None:
         text = text[group.end() :]
     return group, _SUBJECT.match(text), text
-
-
-#: "find (all) (instances of)": words that ask for the result rather than describe it.
-_SEARCH_VERB = re.compile(
-    r"^(?:please )?(?:(?:i |we )?(?:need|want|would like|am looking for|'m looking for|are looking for)"
-    r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
-    r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any)"
-    r"(?: (?:all|every|any|the|an?))?(?: (?:instances|cases|examples|occurrences|situations"
-    r"|scenarios|scenes|frames|moments|events|clips) (?:of|where|with|in which))?\s+"
-)
-#: A list of three or more road users ("pedestrians, cyclists or scooters").
-_LIST = re.compile(
-    rf"(?<![\w-])(?P<head>{_CATEGORY_RE})(?P<tail>(?:,\s*(?:other\s+)?(?:{_CATEGORY_RE}))+),?\s+"
-    rf"(?P<conj>or|and)\s+(?P<last>(?:other\s+)?(?:{_CATEGORY_RE}))(?![\w-])"
-)
-#: "heavy vehicles (trucks, box trucks or buses) ...": the road users in brackets name the subject.
-_BRACKETED_SUBJECT = re.compile(rf"^(?:an? |the |all )?[\w -]+?\s*\((?P<noun>{_NOUN})\)")
-
-
-def _listed_road_users(text: str) -> str:
-    """``text`` with a list of road users joined by "or" and a bracketed subject list put first.
-
-    "pedestrians, cyclists or scooters near X" -> "pedestrians or cyclists or scooters near X";
-    "heavy vehicles (trucks, box trucks or buses) going ..." -> "trucks or box trucks or buses
-    going ...".
-    """
-    text = _LIST.sub(
-        lambda m: " or ".join(
-            [m["head"], *(p.strip() for p in m["tail"].split(",") if p.strip()), m["last"]]
-        ),
-        text,
-    )
-    bracketed = _BRACKETED_SUBJECT.match(text)
-    if bracketed is not None and _SUBJECT.match(text):
-        text = bracketed["noun"] + text[bracketed.end() :]
-    return text
-
-
-def _metres(feet: str) -> str:
-    """A number of feet in metres, to the millimetre ("20" -> "6.096")."""
-    return f"{round(float(feet) * 0.3048, 3):g}"
-
-
-def _normalised_text(description: str) -> str:
-    """Lower case, single spaces, no final full stop, number words as digits ("three" -> "3").
-
-    A place in a line of vehicles is put in the one form the tables read: "the third car forward
-    from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
-    cars back from X".
-    """
-    text = " ".join(_listed_road_users(description.lower()).replace(",", " ").split()).rstrip(".!?")
-    # "jaywalkers, i.e. pedestrians on the road ...": the definition after "i.e." when it names a
-    # road user first
-    _, ie, definition = text.partition(" i.e. ")
-    if ie and _SUBJECT.match(definition):
-        text = definition
-    # examples after the description add nothing to read ("..., e.g. in a parking lot")
-    text = re.sub(r"\s*\(?\b(?:e\.g\.?|i\.e\.?|for example|for instance|such as)(?:\s.*)?$", "", text)
-    # a search verb before the request ("find all instances of trucks ...")
-    text = _SEARCH_VERB.sub("", text)
-    # feet as metres ("within 20 feet": 6.096 m)
-    text = re.sub(r"\b(\d+(?:\.\d+)?) ?(?:feet|foot|ft)\b", lambda m: f"{_metres(m.group(1))} m", text)
-    # "cross traffic: vehicles moving perpendicular to the ego": the definition after the colon
-    _, colon, definition = text.partition(": ")
-    if colon and _SUBJECT.match(definition):
-        text = definition
-    text = re.sub(r"\bego-(vehicle|car)\b", r"ego \1", text)
-    text = re.sub(r"\b(" + "|".join(WORD_NUMBERS) + r")\b", lambda m: WORD_NUMBERS[m.group(1)], text)
-    text = re.sub(
-        r"\b(" + "|".join(ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
-        lambda m: f"{m.group(2)} {ORDINALS[m.group(1)]} {m.group(2)} ",
-        text,
-    )
-    text = re.sub(r"^(\d+ (?:cars?|vehicles?) (?:ahead|in front|forward|behind|back))", r"vehicle \1", text)
-    return _reworded(text)
-
-
-#: A relation verb that two of may share one object: "approaching and facing X".
-_RELATION_VERB = (
-    r"(?:approaching|facing|following|overtaking|passing|tailgating|closing in on|near|next to|behind"
-    r"|ahead of|in front of|(?:heading|moving|driving) towards?)"
-)
-_SHARED_VERB = re.compile(
-    rf"(?<![\w-])(?P<v1>{_RELATION_VERB}) and (?P<v2>{_RELATION_VERB}) (?P<obj>{_NP})(?![\w-])"
-)
-_SPEED_UNITS = "|".join(map(re.escape, TO_MPS))
-#: Other wordings put in the one form the tables read: (pattern, replacement).
-_REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
-    # "the ego vehicle's lane / path"
-    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
-    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
-    # a subject's adjective that is a motion or a relation: "left-turning cars", "oncoming trucks"
-    (re.compile(rf"^((?:an? |the |all )?)(left|right)[- ]turning ({_NOUN})(?![\w-])"), r"\1\3 turning \2"),
-    (re.compile(rf"^((?:an? |the |all )?)lane[- ]changing ({_NOUN})(?![\w-])"), r"\1\2 changing lanes"),
-    (
-        re.compile(rf"^((?:an? |the |all )?)oncoming ({_NOUN})(?![\w-])"),
-        r"\1\2 travelling in the opposite direction to the ego vehicle",
-    ),
-    (re.compile(r"\bgetting closer to\b"), "closing in on"),
-    # "merging into the ego's lane": a lane change, then in that lane
-    (
-        re.compile(r"\b(?:merging|cutting|changing lanes?|moving over|pulling) into the same lane as\b"),
-        "changing lanes in the same lane as",
-    ),
-    # "on the ego's left side": to the left of it
-    (
-        re.compile(r"\bon (?:the )?ego(?: vehicle| car)?'s? (left|right)(?:[- ]hand)?(?: side)?"),
-        r"on the \1 side of the ego vehicle",
-    ),
-    # "of any kind": every category (the subject's own word says it)
-    (re.compile(r" (?:of any (?:kind|type|sort|category)|of all (?:kinds|types))\b"), ""),
-    # "whose direction of travel is perpendicular to that of X"
-    (
-        re.compile(
-            r"\b(?:whose |with (?:a |their |its )?)(?:direction of travel|travel direction|heading|direction)"
-            r" is (?:at right angles|perpendicular) to (?:that of )?"
-        ),
-        "moving perpendicular to ",
-    ),
-    (
-        re.compile(
-            r"\b(?:whose |with (?:a |their |its )?)(?:direction of travel|travel direction|heading|direction)"
-            r" is (?P<dir>opposite|the same as) (?:to )?(?:that of )?"
-        ),
-        lambda m: (
-            "moving in the " + ("opposite direction to " if m["dir"] == "opposite" else "same direction as ")
-        ),
-    ),
-    # "at 1 to 3 m/s": between them
-    (
-        re.compile(rf"\b(?:at |from )?(\d+(?:\.\d+)?) ?(?:-|to) ?(\d+(?:\.\d+)?) ?({_SPEED_UNITS})"),
-        r"between \1 and \2 \3",
-    ),
-    # "neither X nor Y": not X, not Y
-    (re.compile(r"\bneither (.+?) nor\b"), r"not \1 not"),
-    (re.compile(r"^jaywalkers\b"), "jaywalking pedestrians"),
-    # "the lead vehicle (that the ego vehicle is following)", nothing else: followed by the ego
-    (
-        re.compile(
-            r"^(?:the |a )?(?:lead|leading) (vehicle|car)s?(?: (?:that|which) (?:the )?ego(?: vehicle| car)?"
-            r" is following)?$"
-        ),
-        r"\1s being followed by the ego vehicle",
-    ),
-    (
-        re.compile(
-            rf"^((?:the |a |all )?{_NOUN}) (?:that|which) (?:the )?ego(?: vehicle| car)? is following\b"
-        ),
-        r"\1 being followed by the ego vehicle",
-    ),
-    # simple English: "more fast than" -> "faster than", "same direction like" -> "... as"
-    (re.compile(r"\bmore (fast|slow)(?:ly)? than\b"), r"\1er than"),
-    (re.compile(r"\b(?:in )?(?:the )?same (?:direction|way) (?:like|as)\b"), "in the same direction as"),
-    (re.compile(r"\b(?:sideways|side|lateral) accel(?:eration)?\b"), "lateral acceleration"),
-    (re.compile(r"\bin (?:its|their|his|her) own lane\b"), "in the same lane"),
-    # "leaving out X", "not counting X": other than X
-    (re.compile(r"\b(?:leaving out|not counting|without counting|ignoring|excluding)\b"), "other than"),
-    # "vehicle that a person walks across in front of it": a clause of another road user about
-    # the subject ("it", "them") is the subject's "with"
-    (
-        re.compile(
-            rf"^((?:an? |the |all )?{_NOUN}) (?:that|which|where)"
-            rf" ((?:an? |the |some )?{_NOUN}) (?:is |are )?(.* (?:it|them))$"
-        ),
-        r"\1 with \2 \3",
-    ),
-    # "a car that is stopped while a pedestrian crosses in front of it": the same, after "while"
-    (
-        re.compile(
-            rf" (?:while|as|when|whilst) ((?:an? |the |some )?{_NOUN}) (?:is |are )?(.* (?:it|them))$"
-        ),
-        r" with \1 \2",
-    ),
-    # "the opposite way to X", "across the front of X", "X's direction of travel"
-    (re.compile(r"\b(?:in )?the (opposite|same) way (to|as)\b"), r"in the \1 direction \2"),
-    (re.compile(r"\b(?:across|in) the front of\b"), "in front of"),
-    (
-        re.compile(
-            r"\b((?:the )?ego(?: vehicle| car)?)'s? (?:direction of travel|travel direction|heading"
-            r"|direction)\b"
-        ),
-        r"\1",
-    ),
-    # contractions: "aren't parked" -> "are not parked"
-    (re.compile(r"\b(are|is|was|were|do|does|did|has|have)n't\b"), r"\1 not"),
-    # "a pedestrian who is less than 20 m away": the distance read as the pedestrian's
-    (
-        re.compile(
-            r"\b(?:who|which|that) (?:is|are) (?=(?:within|less than|under|no more than|closer than) \d)"
-        ),
-        "",
-    ),
-    # "with more than 2 m/s² of lateral acceleration": the usual order
-    (
-        re.compile(
-            r"\b(more than|over|above|at least) (\d+(?:\.\d+)?) ?(m/s2|m/s²|m/s\^2) of lateral acceleration"
-        ),
-        r"a lateral acceleration of \1 \2 \3",
-    ),
-    # "us", "we": the ego vehicle ("vehicles in front of us")
-    (re.compile(r"(?<= )us\b"), "the ego vehicle"),
-    # a manoeuvre with no road user named is a vehicle's ("hard braking events")
-    (
-        re.compile(
-            r"^(?:hard|heavy|emergency|sudden|harsh) braking(?: events?| manoeuvres?| maneuvers?)?\b"
-            rf"(?! (?:{_NOUN}))"
-        ),
-        "vehicles braking hard",
-    ),
-    # "less than 10 m ahead": within 10 m (not "less than 10 m/s")
-    (
-        re.compile(
-            r"\b(?:less than|under|no more than|at most|closer than) (\d+(?:\.\d+)?) ?"
-            r"(m|meters?|metres?)(?![\w/])"
-        ),
-        r"within \1 \2",
-    ),
-)
-
-
-def _ing_forms(text: str) -> str:
-    """``text`` with verbs in the base or present form put in the -ing form the tables read.
-
-    "a car turns left" -> "a car turning left", "car change lane to the left" -> "car changing lane
-    to the left"; a noun or adjective of the same spelling stays ("a right turn", "stop sign", "the
-    brakes", "speed limit"), and so does a verb that needs its particle and lacks it ("speed").
-    """
-    words = text.split(" ")
-    for i, word in enumerate(words):
-        form = VERB_FORMS.get(word)
-        before = words[i - 1] if i > 0 else ""
-        after = words[i + 1] if i + 1 < len(words) else ""
-        if form is None or i == 0 or before in VERB_BLOCKERS_BEFORE or after in VERB_BLOCKERS_AFTER:
-            continue
-        if before == "bus" and form == "stopping":
-            continue  # a bus stop
-        if form in VERB_PARTICLES and after not in VERB_PARTICLES[form]:
-            continue
-        words[i] = form
-    return " ".join(words)
-
-
-def _reworded(text: str) -> str:
-    """``text`` with :data:`_REWORDINGS` applied and a shared relation verb's object repeated.
-
-    "vehicles approaching and facing a stopped car" -> "vehicles approaching a stopped car facing
-    a stopped car", so each verb is read as its own relation.
-    """
-    text = _ing_forms(text)
-    for pattern, replacement in _REWORDINGS:
-        text = pattern.sub(replacement, text)
-    return _SHARED_VERB.sub(lambda m: f"{m['v1']} {m['obj']} {m['v2']} {m['obj']}", text)

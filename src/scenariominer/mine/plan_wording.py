@@ -1,0 +1,352 @@
+"""Putting a description's wording in the one form the phrase tables read.
+
+:func:`normalised_text` lower-cases a description, turns number words into digits, feet into
+metres and lists of road users into "X or Y or Z", drops a leading search verb ("find all
+instances of ...") and examples after "e.g.", puts verbs in their -ing form ("a car turns left")
+and applies :data:`_REWORDINGS` (other wordings of the same phrase: "the ego's lane" -> "the same
+lane as the ego vehicle"). It also holds the road-user patterns (:data:`NOUN`, :data:`NP`,
+:data:`SUBJECT`) both it and :mod:`scenariominer.mine.plan_reader` match with.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from typing import Any
+
+from scenariominer.mine.plan_phrases import CATEGORY_PHRASES, MODIFIERS, TO_MPS
+
+__all__ = [
+    "CATEGORY_RE",
+    "DETERMINER",
+    "MODIFIER_RE",
+    "NOUN",
+    "NOUN_PHRASE",
+    "NP",
+    "SUBJECT",
+    "normalised_text",
+]
+
+
+WORD_NUMBERS = {
+    "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6", "seven": "7",
+    "eight": "8", "nine": "9", "ten": "10", "twenty": "20", "thirty": "30", "fifty": "50",
+}  # fmt: skip
+ORDINALS = {"first": "1", "second": "2", "third": "3", "fourth": "4", "fifth": "5"}
+#: Verbs in the base or present form, as the tables read them ("a car turns left", "car that
+#: turn to the right" -> "turning"): word -> the -ing form.
+VERB_FORMS: dict[str, str] = {
+    **{w: "turning" for w in ("turn", "turns")},
+    **{w: "walking" for w in ("walk", "walks")},
+    **{w: "running" for w in ("run", "runs")},
+    **{w: "driving" for w in ("drive", "drives")},
+    **{w: "going" for w in ("go", "goes")},
+    **{w: "moving" for w in ("move", "moves")},
+    **{w: "stopping" for w in ("stop", "stops")},
+    **{w: "crossing" for w in ("cross", "crosses")},
+    **{w: "following" for w in ("follow", "follows")},
+    **{w: "approaching" for w in ("approach", "approaches")},
+    **{w: "accelerating" for w in ("accelerate", "accelerates")},
+    **{w: "decelerating" for w in ("decelerate", "decelerates")},
+    **{w: "braking" for w in ("brake", "brakes")},
+    **{w: "overtaking" for w in ("overtake", "overtakes")},
+    **{w: "passing" for w in ("pass", "passes")},
+    **{w: "waiting" for w in ("wait", "waits")},
+    **{w: "riding" for w in ("ride", "rides")},
+    **{w: "merging" for w in ("merge", "merges")},
+    **{w: "swerving" for w in ("swerve", "swerves")},
+    **{w: "facing" for w in ("face", "faces")},
+    **{w: "heading" for w in ("head", "heads")},
+    **{w: "travelling" for w in ("travel", "travels")},
+    **{w: "standing" for w in ("stand", "stands")},
+    **{w: "changing" for w in ("change", "changes")},
+    **{w: "slowing" for w in ("slow", "slows")},
+    **{w: "speeding" for w in ("speed", "speeds")},
+    **{w: "tailgating" for w in ("tailgate", "tailgates")},
+    **{w: "making" for w in ("make", "makes")},
+    **{w: "taking" for w in ("take", "takes")},
+}
+#: Words before which a verb form is a noun or an adjective instead ("a right *turn*", "*stop*
+#: sign", "the *brakes*", "a *slow* car").
+VERB_BLOCKERS_BEFORE = frozenset(
+    {"a", "an", "the", "right", "left", "u", "full", "sudden", "momentary", "brief", "short", "to"}
+    | {"their", "its", "his", "her", "no", "hard", "emergency", "lane", "temporary", "complete", "crawling"}
+    | {"of", "for"}
+)
+#: Words after which ... : "stop *sign*", "turn *signal*", "speed *limit*", "slow *car*".
+VERB_BLOCKERS_AFTER = frozenset({"sign", "signs", "signal", "signals", "limit", "bump", "light", "lights"})
+#: Verbs that only count with their particle: "speed *up*", "slow *down*", "change *lane(s)*".
+VERB_PARTICLES = {"speeding": ("up",), "slowing": ("down",), "changing": ("lane", "lanes")}
+
+
+def _alternation(patterns: Any) -> str:
+    return "|".join(f"(?:{p})" for p in patterns)
+
+
+CATEGORY_RE = _alternation(p for p, _ in CATEGORY_PHRASES)
+MODIFIER_RE = _alternation(p for p, _, _ in MODIFIERS)
+#: Words before another road user that carry no condition ("a *lead* vehicle": the relation says it).
+DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their|lead|leading|preceding)\s+)"
+NOUN = rf"(?:{CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{CATEGORY_RE})){{0,4}}"
+NOUN_PHRASE = re.compile(rf"{DETERMINER}*(?P<mods>(?:(?:{MODIFIER_RE})\s+)*)(?P<noun>{NOUN})")
+NP = rf"(?:(?:{DETERMINER}*)(?:(?:{MODIFIER_RE})\s+)*(?:{NOUN}))"
+
+
+SUBJECT = re.compile(
+    rf"^\s*(?:(?:all|the|a|an|any|some|every)\s+)*(?P<mods>(?:(?:{MODIFIER_RE})\s+)*)(?P<noun>{NOUN})(?![\w-])"
+)
+
+
+#: "find (all) (instances of)": words that ask for the result rather than describe it.
+_SEARCH_VERB = re.compile(
+    r"^(?:please )?(?:(?:i |we )?(?:need|want|would like|am looking for|'m looking for|are looking for)"
+    r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
+    r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any)"
+    r"(?: (?:all|every|any|the|an?))?(?: (?:instances|cases|examples|occurrences|situations"
+    r"|scenarios|scenes|frames|moments|events|clips) (?:of|where|with|in which))?\s+"
+)
+#: A list of three or more road users ("pedestrians, cyclists or scooters").
+_LIST = re.compile(
+    rf"(?<![\w-])(?P<head>{CATEGORY_RE})(?P<tail>(?:,\s*(?:other\s+)?(?:{CATEGORY_RE}))+),?\s+"
+    rf"(?P<conj>or|and)\s+(?P<last>(?:other\s+)?(?:{CATEGORY_RE}))(?![\w-])"
+)
+#: "heavy vehicles (trucks, box trucks or buses) ...": the road users in brackets name the subject.
+_BRACKETED_SUBJECT = re.compile(rf"^(?:an? |the |all )?[\w -]+?\s*\((?P<noun>{NOUN})\)")
+
+
+def _listed_road_users(text: str) -> str:
+    """``text`` with a list of road users joined by "or" and a bracketed subject list put first.
+
+    "pedestrians, cyclists or scooters near X" -> "pedestrians or cyclists or scooters near X";
+    "heavy vehicles (trucks, box trucks or buses) going ..." -> "trucks or box trucks or buses
+    going ...".
+    """
+    text = _LIST.sub(
+        lambda m: " or ".join(
+            [m["head"], *(p.strip() for p in m["tail"].split(",") if p.strip()), m["last"]]
+        ),
+        text,
+    )
+    bracketed = _BRACKETED_SUBJECT.match(text)
+    if bracketed is not None and SUBJECT.match(text):
+        text = bracketed["noun"] + text[bracketed.end() :]
+    return text
+
+
+def _metres(feet: str) -> str:
+    """A number of feet in metres, to the millimetre ("20" -> "6.096")."""
+    return f"{round(float(feet) * 0.3048, 3):g}"
+
+
+def normalised_text(description: str) -> str:
+    """Lower case, single spaces, no final full stop, number words as digits ("three" -> "3").
+
+    A place in a line of vehicles is put in the one form the tables read: "the third car forward
+    from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
+    cars back from X".
+    """
+    text = " ".join(_listed_road_users(description.lower()).replace(",", " ").split()).rstrip(".!?")
+    # "jaywalkers, i.e. pedestrians on the road ...": the definition after "i.e." when it names a
+    # road user first
+    _, ie, definition = text.partition(" i.e. ")
+    if ie and SUBJECT.match(definition):
+        text = definition
+    # examples after the description add nothing to read ("..., e.g. in a parking lot")
+    text = re.sub(r"\s*\(?\b(?:e\.g\.?|i\.e\.?|for example|for instance|such as)(?:\s.*)?$", "", text)
+    # a search verb before the request ("find all instances of trucks ...")
+    text = _SEARCH_VERB.sub("", text)
+    # feet as metres ("within 20 feet": 6.096 m)
+    text = re.sub(r"\b(\d+(?:\.\d+)?) ?(?:feet|foot|ft)\b", lambda m: f"{_metres(m.group(1))} m", text)
+    # "cross traffic: vehicles moving perpendicular to the ego": the definition after the colon
+    _, colon, definition = text.partition(": ")
+    if colon and SUBJECT.match(definition):
+        text = definition
+    text = re.sub(r"\bego-(vehicle|car)\b", r"ego \1", text)
+    text = re.sub(r"\b(" + "|".join(WORD_NUMBERS) + r")\b", lambda m: WORD_NUMBERS[m.group(1)], text)
+    text = re.sub(
+        r"\b(" + "|".join(ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
+        lambda m: f"{m.group(2)} {ORDINALS[m.group(1)]} {m.group(2)} ",
+        text,
+    )
+    text = re.sub(r"^(\d+ (?:cars?|vehicles?) (?:ahead|in front|forward|behind|back))", r"vehicle \1", text)
+    return _reworded(text)
+
+
+#: A relation verb that two of may share one object: "approaching and facing X".
+_RELATION_VERB = (
+    r"(?:approaching|facing|following|overtaking|passing|tailgating|closing in on|near|next to|behind"
+    r"|ahead of|in front of|(?:heading|moving|driving) towards?)"
+)
+_SHARED_VERB = re.compile(
+    rf"(?<![\w-])(?P<v1>{_RELATION_VERB}) and (?P<v2>{_RELATION_VERB}) (?P<obj>{NP})(?![\w-])"
+)
+_SPEED_UNITS = "|".join(map(re.escape, TO_MPS))
+#: Other wordings put in the one form the tables read: (pattern, replacement).
+_REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
+    # "the ego vehicle's lane / path"
+    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
+    (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
+    # a subject's adjective that is a motion or a relation: "left-turning cars", "oncoming trucks"
+    (re.compile(rf"^((?:an? |the |all )?)(left|right)[- ]turning ({NOUN})(?![\w-])"), r"\1\3 turning \2"),
+    (re.compile(rf"^((?:an? |the |all )?)lane[- ]changing ({NOUN})(?![\w-])"), r"\1\2 changing lanes"),
+    (
+        re.compile(rf"^((?:an? |the |all )?)oncoming ({NOUN})(?![\w-])"),
+        r"\1\2 travelling in the opposite direction to the ego vehicle",
+    ),
+    (re.compile(r"\bgetting closer to\b"), "closing in on"),
+    # "merging into the ego's lane": a lane change, then in that lane
+    (
+        re.compile(r"\b(?:merging|cutting|changing lanes?|moving over|pulling) into the same lane as\b"),
+        "changing lanes in the same lane as",
+    ),
+    # "on the ego's left side": to the left of it
+    (
+        re.compile(r"\bon (?:the )?ego(?: vehicle| car)?'s? (left|right)(?:[- ]hand)?(?: side)?"),
+        r"on the \1 side of the ego vehicle",
+    ),
+    # "of any kind": every category (the subject's own word says it)
+    (
+        re.compile(r"(?<!truck)(?<!trucks) (?:of any (?:kind|type|sort|category)|of all (?:kinds|types))\b"),
+        "",
+    ),
+    # "a car to the left of it": on its left
+    (re.compile(r"\b(?:to|on) the (left|right)(?: side| hand side)? of (?:it|them|him|her)\b"), r"on its \1"),
+    # "whose direction of travel is perpendicular to that of X"
+    (
+        re.compile(
+            r"\b(?:whose |with (?:a |their |its )?)(?:direction of travel|travel direction|heading|direction)"
+            r" is (?:at right angles|perpendicular) to (?:that of )?"
+        ),
+        "moving perpendicular to ",
+    ),
+    (
+        re.compile(
+            r"\b(?:whose |with (?:a |their |its )?)(?:direction of travel|travel direction|heading|direction)"
+            r" is (?P<dir>opposite|the same as) (?:to )?(?:that of )?"
+        ),
+        lambda m: (
+            "moving in the " + ("opposite direction to " if m["dir"] == "opposite" else "same direction as ")
+        ),
+    ),
+    # "at 1 to 3 m/s": between them
+    (
+        re.compile(rf"\b(?:at |from )?(\d+(?:\.\d+)?) ?(?:-|to) ?(\d+(?:\.\d+)?) ?({_SPEED_UNITS})"),
+        r"between \1 and \2 \3",
+    ),
+    # "neither X nor Y": not X, not Y
+    (re.compile(r"\bneither (.+?) nor\b"), r"not \1 not"),
+    (re.compile(r"^jaywalkers\b"), "jaywalking pedestrians"),
+    # "the lead vehicle (that the ego vehicle is following)", nothing else: followed by the ego
+    (
+        re.compile(
+            r"^(?:the |a )?(?:lead|leading) (vehicle|car)s?(?: (?:that|which) (?:the )?ego(?: vehicle| car)?"
+            r" is following)?$"
+        ),
+        r"\1s being followed by the ego vehicle",
+    ),
+    (
+        re.compile(
+            rf"^((?:the |a |all )?{NOUN}) (?:that|which) (?:the )?ego(?: vehicle| car)? is following\b"
+        ),
+        r"\1 being followed by the ego vehicle",
+    ),
+    # simple English: "more fast than" -> "faster than", "same direction like" -> "... as"
+    (re.compile(r"\bmore (fast|slow)(?:ly)? than\b"), r"\1er than"),
+    (re.compile(r"\b(?:in )?(?:the )?same (?:direction|way) (?:like|as)\b"), "in the same direction as"),
+    (re.compile(r"\b(?:sideways|side|lateral) accel(?:eration)?\b"), "lateral acceleration"),
+    (re.compile(r"\bin (?:its|their|his|her) own lane\b"), "in the same lane"),
+    # "leaving out X", "not counting X": other than X
+    (re.compile(r"\b(?:leaving out|not counting|without counting|ignoring|excluding)\b"), "other than"),
+    # "vehicle that a person walks across in front of it": a clause of another road user about
+    # the subject ("it", "them") is the subject's "with"
+    (
+        re.compile(
+            rf"^((?:an? |the |all )?{NOUN}) (?:that|which|where)"
+            rf" ((?:an? |the |some )?{NOUN}) (?:is |are )?(.* (?:it|them))$"
+        ),
+        r"\1 with \2 \3",
+    ),
+    # "a car that is stopped while a pedestrian crosses in front of it": the same, after "while"
+    (
+        re.compile(rf" (?:while|as|when|whilst) ((?:an? |the |some )?{NOUN}) (?:is |are )?(.* (?:it|them))$"),
+        r" with \1 \2",
+    ),
+    # "the opposite way to X", "across the front of X", "X's direction of travel"
+    (re.compile(r"\b(?:in )?the (opposite|same) way (to|as)\b"), r"in the \1 direction \2"),
+    (re.compile(r"\b(?:across|in) the front of\b"), "in front of"),
+    (
+        re.compile(
+            r"\b((?:the )?ego(?: vehicle| car)?)'s? (?:direction of travel|travel direction|heading"
+            r"|direction)\b"
+        ),
+        r"\1",
+    ),
+    # contractions: "aren't parked" -> "are not parked"
+    (re.compile(r"\b(are|is|was|were|do|does|did|has|have)n't\b"), r"\1 not"),
+    # "a pedestrian who is less than 20 m away": the distance read as the pedestrian's
+    (
+        re.compile(
+            r"\b(?:who|which|that) (?:is|are) (?=(?:within|less than|under|no more than|closer than) \d)"
+        ),
+        "",
+    ),
+    # "with more than 2 m/s² of lateral acceleration": the usual order
+    (
+        re.compile(
+            r"\b(more than|over|above|at least) (\d+(?:\.\d+)?) ?(m/s2|m/s²|m/s\^2) of lateral acceleration"
+        ),
+        r"a lateral acceleration of \1 \2 \3",
+    ),
+    # "us", "we": the ego vehicle ("vehicles in front of us")
+    (re.compile(r"(?<= )us\b"), "the ego vehicle"),
+    # a manoeuvre with no road user named is a vehicle's ("hard braking events")
+    (
+        re.compile(
+            r"^(?:hard|heavy|emergency|sudden|harsh) braking(?: events?| manoeuvres?| maneuvers?)?\b"
+            rf"(?! (?:{NOUN}))"
+        ),
+        "vehicles braking hard",
+    ),
+    # "less than 10 m ahead": within 10 m (not "less than 10 m/s")
+    (
+        re.compile(
+            r"\b(?:less than|under|no more than|at most|closer than) (\d+(?:\.\d+)?) ?"
+            r"(m|meters?|metres?)(?![\w/])"
+        ),
+        r"within \1 \2",
+    ),
+)
+
+
+def _ing_forms(text: str) -> str:
+    """``text`` with verbs in the base or present form put in the -ing form the tables read.
+
+    "a car turns left" -> "a car turning left", "car change lane to the left" -> "car changing lane
+    to the left"; a noun or adjective of the same spelling stays ("a right turn", "stop sign", "the
+    brakes", "speed limit"), and so does a verb that needs its particle and lacks it ("speed").
+    """
+    words = text.split(" ")
+    for i, word in enumerate(words):
+        form = VERB_FORMS.get(word)
+        before = words[i - 1] if i > 0 else ""
+        after = words[i + 1] if i + 1 < len(words) else ""
+        if form is None or i == 0 or before in VERB_BLOCKERS_BEFORE or after in VERB_BLOCKERS_AFTER:
+            continue
+        if before == "bus" and form == "stopping":
+            continue  # a bus stop
+        if form in VERB_PARTICLES and after not in VERB_PARTICLES[form]:
+            continue
+        words[i] = form
+    return " ".join(words)
+
+
+def _reworded(text: str) -> str:
+    """``text`` with :data:`_REWORDINGS` applied and a shared relation verb's object repeated.
+
+    "vehicles approaching and facing a stopped car" -> "vehicles approaching a stopped car facing
+    a stopped car", so each verb is read as its own relation.
+    """
+    text = _ing_forms(text)
+    for pattern, replacement in _REWORDINGS:
+        text = pattern.sub(replacement, text)
+    return _SHARED_VERB.sub(lambda m: f"{m['v1']} {m['obj']} {m['v2']} {m['obj']}", text)
