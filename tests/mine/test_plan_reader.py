@@ -424,6 +424,15 @@ def test_a_clause_after_another_road_user_conditions_that_road_user(
         ("the ego vehicle with a bike right beside it on the right", {"ego"}),
         ("the ego vehicle with a bike beside it on the left", set()),
         ("the ego vehicle with a car beside it", {"ego"}),
+        # from the spent fresh18 run: abbreviations ("veh", "ped", "AV"), "non-X", "from behind",
+        # "the same way as it" (the road user named last), "ped crossing"
+        ("vehs behind the AV", {"bus", "changer", "oncoming", "overtaker", "parked"}),
+        ("non-bus vehicles behind the ego vehicle", {"changer", "oncoming", "overtaker", "parked"}),
+        ("cars approaching the ego vehicle from behind", {"overtaker"}),  # oncoming: head-on
+        ("cars to the AV's left going the same way as it", {"changer", "overtaker"}),
+        ("cars to the AV's left going the opposite way to it", {"oncoming", "parked"}),
+        ("peds at a ped crossing", {"ped"}),
+        ("the ego vehicle following a veh that is moving", {"ego"}),
     ],
 )
 def test_session_18_readings_find_the_objects_they_describe(description: str, expected: set[str]) -> None:

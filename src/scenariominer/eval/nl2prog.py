@@ -124,6 +124,7 @@ SPLITS: tuple[str, ...] = (
     "fresh15",
     "fresh16",
     "fresh17",
+    "fresh18",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.

@@ -75,7 +75,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
         ("REGULAR_VEHICLE",),
     ),
     (r"(?:police officers?|traffic officers?|flaggers?|official signall?ers?)", ("OFFICIAL_SIGNALER",)),
-    (r"(?:motor )?vehicles?", ("VEHICLE",)),
+    (r"(?:motor )?vehicles?|vehs?", ("VEHICLE",)),
     (r"(?:electric |e-)?scooters?|wheeled devices?|skateboards?", ("WHEELED_DEVICE",)),
     (
         r"(?:people|persons?|pedestrians?) in (?:a )?wheelchairs?|wheelchair users?|wheelchairs?",
@@ -169,7 +169,7 @@ _GOING = r"(?:(?:moving|going|driving|travell?ing|doing) )?"
 #: "with X", and "with no X" / "without X" (``no`` group: the relation must not hold)
 _HAVE = r"(?:(?:that have|that has|having|with)(?P<no> no)?|(?P<without>without))"
 _CROSSWALK = (
-    r"(?:a |the |any )?(?:marked |painted |designated )?(?:crosswalk|zebra crossing|pedestrian crossing"
+    r"(?:a |the |any )?(?:marked |painted |designated )?(?:crosswalk|zebra crossing|ped(?:estrian)? crossing"
     r"|designated crossing)s?"
 )
 _INTERSECTION = r"(?:an |the |a )?(?:intersection|junction)s?"
@@ -493,6 +493,12 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"in (?:the )?(?P<dir>same|opposite) direction (?:as|to|of) {obj}",
         "heading_in_relative_direction_to", direction="{dir}",
+    ),
+    # "... as it": the road user named last
+    Phrase(
+        r"(?:(?:travell?ing|heading|driving|moving|going|riding) )?in (?:the )?(?P<dir>same|opposite)"
+        r" direction (?:as|to|of) (?:it|them)",
+        "heading_in_relative_direction_to", direction="{dir}", implied=LAST,
     ),
     Phrase(
         r"(?:(?:travell?ing|heading|driving|moving|going|riding) )?(?:perpendicular|at (?:a )?right angles?)"

@@ -54,7 +54,7 @@ from scenariominer.mine.plan_wording import normalised_text as _normalised_text
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/23"
+PLAN_READER_VERSION = "plan-reader/24"
 
 
 @dataclass
@@ -481,7 +481,10 @@ def _with_clause_of_other(text: str, *, partial: bool) -> dict[str, Any] | None:
     found = _CLAUSE_OF_OTHER.search(text, subject.end() if subject else 1)  # not the subject's own
     if found is None:
         return None
-    clause = read_plan(f"{found['other']} {found['clause']}")
+    other = _NOUN_PHRASE.fullmatch(found["other"])  # "another vehicle ...": read as "vehicle ..."
+    if other is None:
+        return None
+    clause = read_plan(f"{other['mods'] or ''}{other['noun']} {found['clause']}")
     if clause is None or clause["relations"] or clause["related"] or not clause["conditions"]:
         return None
     plan = read_plan(text[: found.end("other")], partial=partial)

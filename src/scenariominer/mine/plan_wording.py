@@ -162,6 +162,8 @@ def normalised_text(description: str) -> str:
     if colon and SUBJECT.match(definition):
         text = definition
     text = re.sub(r"\bego-(vehicle|car)\b", r"ego \1", text)
+    # "the AV('s)": the ego vehicle, the one name the rewordings below know it by
+    text = re.sub(r"\b(?:the )?(?:av|adv|sdv)\b", "the ego vehicle", text)
     text = re.sub(r"\b(" + "|".join(WORD_NUMBERS) + r")\b", lambda m: WORD_NUMBERS[m.group(1)], text)
     text = re.sub(
         r"\b(" + "|".join(ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
@@ -189,6 +191,19 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # a subject's adjective that is a motion or a relation: "left-turning cars", "oncoming trucks"
     (re.compile(rf"^((?:an? |the |all )?)(left|right)[- ]turning ({NOUN})(?![\w-])"), r"\1\3 turning \2"),
     (re.compile(rf"^((?:an? |the |all )?)lane[- ]changing ({NOUN})(?![\w-])"), r"\1\2 changing lanes"),
+    # "non-ego vehicles", "non-bus vehicles": other than those
+    (re.compile(rf"^((?:an? |the |all |any )?)non-?(ego|{NOUN}) ({NOUN})(?![\w-])"), r"\1\3 other than \2"),
+    # "closing in on X from behind": toward X, behind it
+    (
+        re.compile(rf"\b(approaching|closing in on) ({NP}) from (?:behind|the rear)\b"),
+        r"\1 \2 behind \2",
+    ),
+    # "somewhere ahead of it": ahead of it (any distance, the predicate's default)
+    (re.compile(r"\bsomewhere (?=ahead|in front|behind|to (?:the|its|their) (?:left|right))"), ""),
+    (
+        re.compile(rf"^((?:an? |the |all )?)oncoming ({NOUN}) (?:relative to|with respect to|compared to) "),
+        r"\1\2 travelling in the opposite direction to ",
+    ),
     (
         re.compile(rf"^((?:an? |the |all )?)oncoming ({NOUN})(?![\w-])"),
         r"\1\2 travelling in the opposite direction to the ego vehicle",
@@ -203,6 +218,10 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (
         re.compile(r"\bon (?:the )?ego(?: vehicle| car)?'s? (left|right)(?:[- ]hand)?(?: side)?"),
         r"on the \1 side of the ego vehicle",
+    ),
+    (
+        re.compile(r"\bto (?:the )?ego(?: vehicle| car)?'s? (left|right)(?:[- ]hand)?(?: side)?"),
+        r"to the \1 of the ego vehicle",
     ),
     # "of any kind": every category (the subject's own word says it)
     (

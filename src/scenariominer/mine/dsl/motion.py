@@ -31,7 +31,8 @@ def stationary(track_candidates: Scenario, log_dir: LogContext) -> Scenario:
     An object is stationary when all its observed box centres fit in a rectangle whose diagonal
     is shorter than 3 m (``MiningConfig.stationary_max_displacement_m``; box centres of parked
     objects jitter by up to a metre). Use this to separate parked from active objects; for an
-    object that is only momentarily stopped use ``has_velocity(..., max_velocity=0.5)``.
+    object that is only momentarily stopped use ``has_velocity(..., max_velocity=0.5)``, and for
+    one that is stopped in either sense (parked included) the union of both.
 
     Args:
         track_candidates: subject objects (scenario).
@@ -56,6 +57,8 @@ def has_velocity(
     Objects that are stationary for the whole log (see :func:`stationary`) never match, so
     ``has_velocity(vehicles, log_dir, max_velocity=0.5)`` finds vehicles that are momentarily
     stopped, not parked ones. Annotation jitter gives standing objects up to about 0.5 m/s.
+    A plain "stopped" means at rest, parked included (as the Argoverse 2 scenario-mining ground
+    truth labels "stopped car"): join both, as in the example below.
 
     Args:
         track_candidates: subject objects (scenario).
@@ -68,7 +71,8 @@ def has_velocity(
 
     Example:
         fast_vehicles = has_velocity(vehicles, log_dir, min_velocity=15)
-        stopped_vehicles = has_velocity(vehicles, log_dir, min_velocity=0, max_velocity=0.5)
+        momentarily_stopped = has_velocity(vehicles, log_dir, min_velocity=0, max_velocity=0.5)
+        stopped_vehicles = scenario_or([stationary(vehicles, log_dir), momentarily_stopped])
     """
     func = "has_velocity"
     tc, ctx = _unary_args(track_candidates, log_dir, func, "has_velocity(vehicles, log_dir, min_velocity=5)")
