@@ -433,10 +433,29 @@ def test_a_clause_after_another_road_user_conditions_that_road_user(
         ("cars to the AV's left going the opposite way to it", {"oncoming", "parked"}),
         ("peds at a ped crossing", {"ped"}),
         ("the ego vehicle following a veh that is moving", {"ego"}),
+        # from the spent fresh19 run: polite requests, "whenever there is", "while it is", "that
+        # are not <road users>", "who have", "within D of them", a closing speed
+        ("Could you show me cars that are turning right, please?", {"turner"}),
+        ("Show me the ego vehicle whenever there is a bike on its right within 4 metres.", {"ego"}),
+        ("the ego vehicle while it is following a car", {"ego"}),
+        ("Could you show me moving vehicles that are not regular vehicles?", {"bus", "ego"}),
+        ("pedestrians who have a car within 5 feet of them", {"ped"}),
+        (
+            "Which cars are moving toward the ego vehicle with a closing speed of at least 3 m/s?",
+            {"oncoming", "overtaker"},
+        ),
+        ("Which cars are moving toward the ego vehicle with a closing speed of at least 30 m/s?", set()),
     ],
 )
 def test_session_18_readings_find_the_objects_they_describe(description: str, expected: set[str]) -> None:
     assert _referred(description) == expected
+
+
+def test_a_stated_top_speed_at_walking_pace_or_below_includes_standing_still() -> None:
+    assert "has_velocity(subject, log_dir, min_velocity=0, max_velocity=0.45)" in _program(
+        "cars slower than 1 mph"
+    )
+    assert "has_velocity(subject, log_dir, max_velocity=4.47)" in _program("cars slower than 10 mph")
 
 
 def test_trucks_are_avs_truck_category_unless_of_any_kind() -> None:

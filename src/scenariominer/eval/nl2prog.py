@@ -125,6 +125,7 @@ SPLITS: tuple[str, ...] = (
     "fresh16",
     "fresh17",
     "fresh18",
+    "fresh19",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.

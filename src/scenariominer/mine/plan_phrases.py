@@ -167,7 +167,7 @@ _SPEED = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})?"
 _SPEED_WITH_UNIT = rf"(?P<value>{_NUMBER}) ?(?P<unit>{'|'.join(TO_MPS)})"
 _GOING = r"(?:(?:moving|going|driving|travell?ing|doing) )?"
 #: "with X", and "with no X" / "without X" (``no`` group: the relation must not hold)
-_HAVE = r"(?:(?:that have|that has|having|with)(?P<no> no)?|(?P<without>without))"
+_HAVE = r"(?:(?:(?:that|who|which) (?:have|has)|having|with)(?P<no> no)?|(?P<without>without))"
 _CROSSWALK = (
     r"(?:a |the |any )?(?:marked |painted |designated )?(?:crosswalk|zebra crossing|ped(?:estrian)? crossing"
     r"|designated crossing)s?"
@@ -234,6 +234,13 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_IN_LINE_BEHIND + r" (?:(?:of|from) )?{obj}", "in_line", "rank={rank}", "backward"),
     Phrase(_IN_LINE_AHEAD, "in_line", "rank={rank}", "forward", implied=EGO),
     Phrase(_IN_LINE_BEHIND, "in_line", "rank={rank}", "backward", implied=EGO),
+    # "moving toward X with a closing speed of at least 2 m/s": the speed toward X (before the speeds of
+    # the subject itself)
+    Phrase(
+        r"(?:heading|moving|driving|going|approaching|closing in on) (?:towards? )?{obj} (?:with|at) a"
+        r" (?:closing|approach(?:ing)?) speed (?:of )?(?:at least|more than|over|above) " + _SPEED,
+        "heading_toward", "minimum_speed={speed}",
+    ),
     # "going straight (ahead)": not turning (before the bare "ahead", a relation to the ego)
     Phrase(
         r"(?:going|driving|continuing|heading|travell?ing|moving|proceeding|riding) straight"
@@ -340,7 +347,7 @@ PHRASES: tuple[Phrase, ...] = (
         implied=EGO,
     ),
     Phrase(
-        r"(?:pointed|facing|pointing) (?:right |directly |straight )?(?:at|towards?) {obj}"
+        r"(?:(?:pointed|facing|pointing) (?:right |directly |straight )?(?:at|towards?)|facing) {obj}"
         r" (?:from )?(?:less than|within|under) "
         + _DIST + "(?: away)?",
         "facing_toward", "max_distance={dist}",

@@ -54,7 +54,7 @@ from scenariominer.mine.plan_wording import normalised_text as _normalised_text
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/24"
+PLAN_READER_VERSION = "plan-reader/25"
 
 
 @dataclass
@@ -307,6 +307,11 @@ def _stated_numbers_win(reading: _Reading) -> None:
     acceleration replaces what "swerving" reads (:func:`_stated_lateral_wins`).
     """
     _stated_lateral_wins(reading)
+    for cond in reading.conditions:  # "slower than 1 mph": at rest counts (the default 0.5 is above it)
+        arg = cond["argument"] or ""
+        top = re.fullmatch(r"max_velocity=([\d.]+)", arg)
+        if cond["function"] == "has_velocity" and top and float(top.group(1)) <= _MOVING_MPS:
+            cond["argument"] = f"min_velocity=0, {arg}"
     for (function, argument), key in ((SLOW, "max_velocity"), (HARD_BRAKING, "max_accel")):
         defaults = [{"function": function, "negated": False, "argument": argument}]
         if function == "accelerating":
@@ -319,6 +324,8 @@ def _stated_numbers_win(reading: _Reading) -> None:
             reading.conditions[:] = [c for c in reading.conditions if c not in defaults]
 
 
+#: has_velocity's default lower bound (m/s): below it an object counts as not moving.
+_MOVING_MPS = 0.5
 #: The deceleration of a bare "braking" / "slowing down".
 _BRAKING_DEFAULT = "min_accel=-inf, max_accel=-1.0"
 

@@ -99,7 +99,8 @@ SUBJECT = re.compile(
 
 #: "find (all) (instances of)": words that ask for the result rather than describe it.
 _SEARCH_VERB = re.compile(
-    r"^(?:please )?(?:(?:i |we )?(?:need|want|would like|am looking for|'m looking for|are looking for)"
+    r"^(?:please )?(?:(?:could|can|would|will) you (?:please )?)?"
+    r"(?:(?:i |we )?(?:need|want|would like|am looking for|'m looking for|are looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
     r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any)"
     r"(?: (?:all|every|any|the|an?))?(?: (?:instances|cases|examples|occurrences|situations"
@@ -193,6 +194,21 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (re.compile(rf"^((?:an? |the |all )?)lane[- ]changing ({NOUN})(?![\w-])"), r"\1\2 changing lanes"),
     # "non-ego vehicles", "non-bus vehicles": other than those
     (re.compile(rf"^((?:an? |the |all |any )?)non-?(ego|{NOUN}) ({NOUN})(?![\w-])"), r"\1\3 other than \2"),
+    # "a car within 5 m of them": within 5 m (of the road user named last)
+    (re.compile(r"\b(within \d+(?:\.\d+)? ?(?:m|meters?|metres?)) of (?:them|it|him|her)\b"), r"\1"),
+    # "..., please": politeness
+    (re.compile(r"(?: please)+$"), ""),
+    # "following X in their lane": following is in X's lane already
+    (
+        re.compile(rf"\b(following|tailgating|trailing) ({NP}) in (?:their|its|the same|his|her) lane\b"),
+        r"\1 \2",
+    ),
+    # "whenever there is a pedestrian on its right": with one there
+    (re.compile(r"\b(?:whenever|when|while|as long as) there (?:is|are) "), "with "),
+    # "trucks while they are moving", "the ego vehicle while it is following X": the subject's own
+    (re.compile(r"\b(?:while|when|whenever) (?:they|it) (?:is|are) "), ""),
+    # "moving vehicles that are not regular vehicles": other than those
+    (re.compile(rf"\b(?:that|which|who) (?:are|is) not (?:an? )?({NOUN})(?![\w-])"), r"other than \1"),
     # "closing in on X from behind": toward X, behind it
     (
         re.compile(rf"\b(approaching|closing in on) ({NP}) from (?:behind|the rear)\b"),
