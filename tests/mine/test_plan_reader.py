@@ -445,10 +445,28 @@ def test_a_clause_after_another_road_user_conditions_that_road_user(
             {"oncoming", "overtaker"},
         ),
         ("Which cars are moving toward the ego vehicle with a closing speed of at least 30 m/s?", set()),
+        # from the spent fresh20 run: articles left out, "max D away", "and there is X behind it",
+        # "X that has Y following it", "stay at same place all the log", "the ego speed is ...",
+        # "close to them, within D", "from behind to ahead"
+        ("vehicles located on left of ego, max 5 meter away", {"overtaker"}),
+        ("the ego vehicle goes straight, and there is a vehicle behind it", {"ego"}),
+        ("a vehicle that has another vehicle following it", {"ego", "lead", "overtaker"}),
+        ("pedestrians who stay at same place all the log", {"ped2", "pedA", "pedB"}),
+        ("ego speed is above 5 m/s", {"ego"}),
+        ("cars with pedestrians close to them, within 5 m", {"lead", "oncoming", "overtaker", "turner"}),
+        ("cars passing the ego on its left side, from behind to ahead", {"overtaker"}),
     ],
 )
 def test_session_18_readings_find_the_objects_they_describe(description: str, expected: set[str]) -> None:
     assert _referred(description) == expected
+
+
+def test_a_condition_of_the_lead_or_the_ego_stated_after_and_or_while_is_that_road_users() -> None:
+    program = _program("ego is following a vehicle and the lead vehicle brakes (below -1 m/s2)")
+    assert "related_1 = accelerating(related_1, log_dir, min_accel=-inf, max_accel=-1)" in program
+    program = _program("vehicles moving perpendicular to the ego while ego is on the intersection")
+    assert "related_1 = on_intersection(related_1, log_dir)" in program
+    assert "has_velocity(subject, log_dir, min_velocity=0.5)" in _program("walking pedestrians")
 
 
 def test_a_stated_top_speed_at_walking_pace_or_below_includes_standing_still() -> None:

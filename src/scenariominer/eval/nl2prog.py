@@ -126,6 +126,7 @@ SPLITS: tuple[str, ...] = (
     "fresh17",
     "fresh18",
     "fresh19",
+    "fresh20",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.

@@ -112,7 +112,7 @@ EXCEPT = "except"
 
 #: Adjectives before a road user: (pattern, condition function, argument).
 MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
-    (r"moving", *MOVING),
+    (r"moving|walking|running|riding|cycling", *MOVING),
     (r"parked|stationary|double[- ]parked", "stationary", None),
     (r"active|non-stationary", "not stationary", None),
     (r"jaywalking", "jaywalking", None),
@@ -184,7 +184,8 @@ _ACCEL = (
 #: Not followed by a side ("within 20 m *behind them*" is a relation in that direction).
 _NO_SIDE = r"(?! (?:ahead|in front|behind|in back|(?:on|to) (?:their |its |the )?(?:left|right)))"
 _MORE_THAN = (
-    r"(?:more than|over|faster than|harder than|stronger than|greater than|above|at least|exceeding"
+    r"(?:more than|over|faster than|harder than|stronger than|greater than|bigger than|larger than"
+    r"|higher than|above|at least|exceeding"
     r"|in excess of|beyond|by more than|of more than)"
 )
 _LATERAL_FN = "has_lateral_acceleration"
@@ -547,6 +548,12 @@ PHRASES: tuple[Phrase, ...] = (
         _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:beside|next to|alongside) " + _IT,
         "has_objects_in_relative_direction", _BESIDE_ONE, sides=("left", "right"), any_side=True,
     ),
+    # "a vehicle that has another vehicle following it": the one followed
+    Phrase(
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:following|tailgating|trailing) " + _IT,
+        "following",
+        reverse=True,
+    ),
     Phrase(
         _HAVE + r" " + _QUANTITY + r"{obj} (?:on |to )either side",
         "has_objects_in_relative_direction", sides=("left", "right"), any_side=True,
@@ -746,9 +753,9 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(_NOT + r"(?:double[- ]parked|parked|stationary)", "stationary"),
     # "who stay in 1 spot for the whole log": stationary (the predicate's own sense)
     Phrase(
-        r"(?:stays?|staying|remains?|remaining) (?:in (?:1|the same) (?:spot|place|position|location)|still"
-        r"|stationary|in place|put)(?: (?:for|during|throughout) the (?:whole|entire) (?:log|scene|recording"
-        r"|time))?",
+        r"(?:stays?|staying|remains?|remaining) (?:(?:in|at) (?:1|the same|same) (?:spot|place|position"
+        r"|location)|still|stationary|in place|put)(?: (?:for |during |throughout )?(?:all )?the"
+        r" (?:whole |entire )?(?:log|scene|recording|time))?",
         "stationary",
     ),
     Phrase(r"(?:that )?(?:has not|hasn't|have not|haven't|never) moved", "stationary"),

@@ -183,6 +183,8 @@ _RELATION_VERB = (
 _SHARED_VERB = re.compile(
     rf"(?<![\w-])(?P<v1>{_RELATION_VERB}) and (?P<v2>{_RELATION_VERB}) (?P<obj>{NP})(?![\w-])"
 )
+#: The ego vehicle's names in a normalised text.
+_EGO = r"(?:the )?ego(?: vehicle| car)?"
 _SPEED_UNITS = "|".join(map(re.escape, TO_MPS))
 #: Other wordings put in the one form the tables read: (pattern, replacement).
 _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
@@ -196,6 +198,52 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (re.compile(rf"^((?:an? |the |all |any )?)non-?(ego|{NOUN}) ({NOUN})(?![\w-])"), r"\1\3 other than \2"),
     # "a car within 5 m of them": within 5 m (of the road user named last)
     (re.compile(r"\b(within \d+(?:\.\d+)? ?(?:m|meters?|metres?)) of (?:them|it|him|her)\b"), r"\1"),
+    # "max 5 meter away": within 5 m
+    (
+        re.compile(r"\b(?:max(?:imum)?|at most|up to) (\d+(?:\.\d+)?) ?(m|meters?|metres?)(?: away)?\b"),
+        r"within \1 \2",
+    ),
+    # articles left out: "on left of ego", "inside drivable area", "same lane with a bus"
+    (re.compile(r"\b(on|to) (left|right) (?:side )?of\b"), r"\1 the \2 of"),
+    (re.compile(r"\b(in|inside|within|on|outside|off|out of) drivable area\b"), r"\1 the drivable area"),
+    (re.compile(r"\bsame lane with\b"), "same lane as"),
+    (re.compile(r"\b(?:a |the )?lane of (?:the )?type (\w+)\b"), r"a \1 lane"),
+    # "turns, any direction": turning (either way)
+    (re.compile(r"\b(turning|turns?) (?:in )?(?:any|either) direction\b"), r"\1"),
+    # "..., and there is a vehicle behind it": with one there
+    (
+        re.compile(
+            r"\b(?:and |whenever |when |while |as long as )?there (?:is|are)"
+            r" (?=an? |some |\d|multiple |several |many |at least )"
+        ),
+        "with ",
+    ),
+    # "passing X on its left, from behind to ahead": what passing says already
+    (re.compile(r" from behind to (?:ahead|the front)\b"), ""),
+    # "with pedestrians close to it, within 5 m": the distance says how close
+    (re.compile(r"\b(?:close to|near|next to|around) (?:it|them)(?= within \d)"), ""),
+    # "vehicles moving perpendicular to the ego while ego is on the intersection": the ego's own
+    (
+        re.compile(rf"\b({_EGO})(.*?) (?:while|when|whenever) {_EGO} is (.+)$"),
+        r"\1 that is \3\2",
+    ),
+    # "following X and the lead vehicle brakes": X is the one braking
+    (
+        re.compile(
+            rf"\bfollowing ({NP}) and (?:the (?:lead|leading|front) (?:vehicle|car)|it|that (?:vehicle|car)) "
+        ),
+        r"following \1 that ",
+    ),
+    # "brakes (below -1 m/s2)", "accelerating below -2 m/s²": braking harder than that
+    (
+        re.compile(
+            r"\b(?:braking|decelerating|slowing(?: down)?|accelerating|an acceleration) \(?(?:at )?"
+            r"(?:below|under|less than|lower than) -(\d+(?:\.\d+)?) ?(m/s2|m/s²|m/s\^2)\)?"
+        ),
+        r"braking more than \1 \2",
+    ),
+    # "the ego speed is above 20 mph": the ego going above it
+    (re.compile(rf"^({_EGO}|(?:the |a )?{NOUN})(?:'s?)? speed is\b"), r"\1 going"),
     # "..., please": politeness
     (re.compile(r"(?: please)+$"), ""),
     # "following X in their lane": following is in X's lane already
@@ -383,5 +431,5 @@ def _reworded(text: str) -> str:
     """
     text = _ing_forms(text)
     for pattern, replacement in _REWORDINGS:
-        text = pattern.sub(replacement, text)
+        text = " ".join(pattern.sub(replacement, text).split())
     return _SHARED_VERB.sub(lambda m: f"{m['v1']} {m['obj']} {m['v2']} {m['obj']}", text)
