@@ -455,6 +455,16 @@ def test_a_clause_after_another_road_user_conditions_that_road_user(
         ("ego speed is above 5 m/s", {"ego"}),
         ("cars with pedestrians close to them, within 5 m", {"lead", "oncoming", "overtaker", "turner"}),
         ("cars passing the ego on its left side, from behind to ahead", {"overtaker"}),
+        # from the spent fresh22 run: bug-report brackets ("(within 30 m)", "(> 1 m/s)"), "X / Y",
+        # "driving straight at X, closing in", "the same way" (as the ego), "while it moves" (the
+        # ego's), "with a car following behind it"
+        ("cars alongside the ego on its left (within 5 m) going the same way", {"overtaker"}),
+        (
+            "cars close behind the AV (within 25 m) while it moves",
+            {"changer", "oncoming", "overtaker", "parked"},
+        ),
+        ("a car driving straight at the ego, closing in (within 30 m)", {"oncoming", "overtaker"}),
+        ("ped looking at / facing the AV (within 30 m)", {"pedA"}),
     ],
 )
 def test_session_18_readings_find_the_objects_they_describe(description: str, expected: set[str]) -> None:
@@ -467,6 +477,18 @@ def test_a_condition_of_the_lead_or_the_ego_stated_after_and_or_while_is_that_ro
     program = _program("vehicles moving perpendicular to the ego while ego is on the intersection")
     assert "related_1 = on_intersection(related_1, log_dir)" in program
     assert "has_velocity(subject, log_dir, min_velocity=0.5)" in _program("walking pedestrians")
+
+
+def test_bracketed_numbers_and_symbols_are_read_as_words() -> None:
+    program = _program("peds walking (> 1 m/s) on the road but not at a crosswalk")
+    assert "has_velocity(subject, log_dir, min_velocity=1.0)" in program
+    assert "accelerating(subject, log_dir, min_accel=1)" in _program("the AV speeding up (accel > 1 m/s^2)")
+    program = _program("non-car vehicles (trucks, buses, etc - anything but regular cars) turning left")
+    assert "scenario_not(is_category)(subject, log_dir, category='REGULAR_VEHICLE')" in program
+    assert "related_" not in program  # the bracketed examples name no other road user
+    program = _program("oncoming cars while the AV is turning right")
+    assert "related_1 = turning(related_1, log_dir, direction='right')" in program
+    assert "reverse_relationship(following)" in _program("bus with a car following behind it")
 
 
 def test_a_stated_top_speed_at_walking_pace_or_below_includes_standing_still() -> None:

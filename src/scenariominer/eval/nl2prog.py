@@ -127,6 +127,7 @@ SPLITS: tuple[str, ...] = (
     "fresh18",
     "fresh19",
     "fresh20",
+    "fresh22",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.

@@ -538,7 +538,14 @@ PHRASES: tuple[Phrase, ...] = (
         + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)?",
         "has_objects_in_relative_direction", None, "{dir}",
     ),
-    # "with a car (right) beside it on the left": that side, close ("beside it": either side)
+    # "with a car (right) beside it on the left": that side, close ("beside it": either side); a
+    # stated distance says how close
+    Phrase(
+        _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:beside|next to|alongside) " + _IT
+        + r" (?:on |to )(?:their |its |his |her |the )(?P<dir>left|right)(?: side| hand side)?"
+        + r" within " + _DIST,
+        "has_objects_in_relative_direction", "within_distance={dist}", "{dir}",
+    ),
     Phrase(
         _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:beside|next to|alongside) " + _IT
         + r" (?:on |to )(?:their |its |his |her |the )(?P<dir>left|right)(?: side| hand side)?",
@@ -550,7 +557,7 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     # "a vehicle that has another vehicle following it": the one followed
     Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} (?:following|tailgating|trailing) " + _IT,
+        _HAVE + r" " + _QUANTITY + r"{obj} (?:following|tailgating|trailing)(?: closely)?(?: behind)? " + _IT,
         "following",
         reverse=True,
     ),
@@ -622,6 +629,7 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:in|on|inside|within|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
     # "at an intersection": on it or just before it (stopped at the stop line, turning there)
     Phrase(r"at " + _INTERSECTION, "near_intersection"),
+    Phrase(_NEAR + " " + _CROSSWALK + " within " + _DIST, "at_pedestrian_crossing", "within_distance={dist}"),
     Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
     Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
             "at_pedestrian_crossing"),
@@ -673,7 +681,12 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?:crossing|walking across|running across)(?: (?:the |a )?(?:road|street|roadway))?", "crossing"
     ),
-    # "right next to X on its right side": beside X, on that side
+    # "right next to X on its right side": beside X, on that side (within a stated distance)
+    Phrase(
+        _DIRECTLY + r"(?:next to|beside|alongside) {obj} (?:on|to) (?:its|their|the) (?P<dir>left|right)"
+        r"(?: side| hand side)? within " + _DIST,
+        _GET_IN_DIRECTION, "within_distance={dist}", "{dir}",
+    ),
     Phrase(
         _DIRECTLY + r"(?:next to|beside|alongside) {obj} (?:on|to) (?:its|their|the) (?P<dir>left|right)"
         r"(?: side| hand side)?",

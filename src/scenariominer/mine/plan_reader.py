@@ -54,7 +54,7 @@ from scenariominer.mine.plan_wording import normalised_text as _normalised_text
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/26"
+PLAN_READER_VERSION = "plan-reader/27"
 
 
 @dataclass
@@ -483,6 +483,8 @@ def _with_clause_of_other(text: str, *, partial: bool) -> dict[str, Any] | None:
     "vehicles approaching a pedestrian who is on a crosswalk": the pedestrian is on a crosswalk (a
     condition of the related object, as "a *moving* vehicle" is). The clause must read in full as
     conditions of that road user alone (no other road user in it), else ``None``: the model reads it.
+    Where the whole rest does not read so, the longest first part that does is the clause and the
+    words after it belong to the sentence ("behind the ego vehicle that is braking within 10 m").
     """
     subject = _SUBJECT.match(text)
     found = _CLAUSE_OF_OTHER.search(text, subject.end() if subject else 1)  # not the subject's own
@@ -491,10 +493,14 @@ def _with_clause_of_other(text: str, *, partial: bool) -> dict[str, Any] | None:
     other = _NOUN_PHRASE.fullmatch(found["other"])  # "another vehicle ...": read as "vehicle ..."
     if other is None:
         return None
-    clause = read_plan(f"{other['mods'] or ''}{other['noun']} {found['clause']}")
-    if clause is None or clause["relations"] or clause["related"] or not clause["conditions"]:
+    words = found["clause"].split()
+    for cut in range(len(words), 0, -1):
+        clause = read_plan(f"{other['mods'] or ''}{other['noun']} {' '.join(words[:cut])}")
+        if clause is not None and not clause["relations"] and not clause["related"] and clause["conditions"]:
+            break
+    else:
         return None
-    plan = read_plan(text[: found.end("other")], partial=partial)
+    plan = read_plan(" ".join([text[: found.end("other")], *words[cut:]]), partial=partial)
     if plan is None:
         return None
     others = [obj for obj in plan["related"] if obj["category"] == clause["subject_category"]]

@@ -154,6 +154,12 @@ def normalised_text(description: str) -> str:
         text = definition
     # examples after the description add nothing to read ("..., e.g. in a parking lot")
     text = re.sub(r"\s*\(?\b(?:e\.g\.?|i\.e\.?|for example|for instance|such as)(?:\s.*)?$", "", text)
+    # brackets: an explanation with "etc" adds nothing, a word repeating the verb neither; other
+    # bracketed words are read as plain words ("... (within 20 m)", "(> 1 m/s)")
+    text = re.sub(r"\([^()]*\betc\b[^()]*\)|\((?:overtaken|overtaking|passing|lane change)\)", " ", text)
+    text = " ".join(text.replace("(", " ").replace(")", " ").split())
+    text = re.sub(r"\s*>=?\s*", " more than ", text)
+    text = re.sub(r"\s*<=?\s*", " less than ", text).strip()
     # a search verb before the request ("find all instances of trucks ...")
     text = _SEARCH_VERB.sub("", text)
     # feet as metres ("within 20 feet": 6.096 m)
@@ -218,15 +224,21 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         "with ",
     ),
+    # "ped walking (> 1 m/s)": faster than that ("doing more than 10 mph" has its own phrase)
+    (
+        re.compile(rf"(?<!doing )(?<!at )\bmore than (\d+(?:\.\d+)? ?(?:{_SPEED_UNITS}))(?![\w^²/])"),
+        r"faster than \1",
+    ),
+    # "close behind X within 10 m": the distance says how close
+    (re.compile(r"\bclose (behind|ahead of|in front of)\b(?=.* within \d)"), r"\1"),
+    # "looking at / facing X": facing it
+    (re.compile(r"\b(?:looking|staring) at ?/ ?(?=facing)"), ""),
+    # "going the same way" (as the ego)
+    (re.compile(r"\b(?:in )?the (same|opposite) way\b(?! (?:as|to|like)\b)"), r"in the \1 direction"),
     # "passing X on its left, from behind to ahead": what passing says already
     (re.compile(r" from behind to (?:ahead|the front)\b"), ""),
     # "with pedestrians close to it, within 5 m": the distance says how close
     (re.compile(r"\b(?:close to|near|next to|around) (?:it|them)(?= within \d)"), ""),
-    # "vehicles moving perpendicular to the ego while ego is on the intersection": the ego's own
-    (
-        re.compile(rf"\b({_EGO})(.*?) (?:while|when|whenever) {_EGO} is (.+)$"),
-        r"\1 that is \3\2",
-    ),
     # "following X and the lead vehicle brakes": X is the one braking
     (
         re.compile(
@@ -242,6 +254,35 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         r"braking more than \1 \2",
     ),
+    # shorthand and manner words: "accel", "decel", "suddenly speeding up", "getting passed"
+    (re.compile(r"\baccel\b"), "acceleration"),
+    (re.compile(r"\bdecel\b"), "deceleration"),
+    (re.compile(r"\b(?:suddenly|abruptly) (?=\w+ing\b)"), ""),
+    (re.compile(r"\bgetting (passed|overtaken|followed|tailgated)\b"), r"being \1"),
+    (
+        re.compile(
+            r"\b(?:speeding up|accelerating) (?:with )?(?:an? )?acceleration (?:of )?"
+            r"(more than|over|above|at least) "
+        ),
+        r"accelerating \1 ",
+    ),
+    (
+        re.compile(
+            r"\b(?:slowing down|braking|decelerating) (?:with )?(?:an? )?deceleration (?:of )?"
+            r"(more than|over|above|at least) "
+        ),
+        r"decelerating \1 ",
+    ),
+    # "driving straight at the ego, closing in": toward it
+    (
+        re.compile(
+            rf"\b(driving|heading|moving|going|coming|riding) (?:straight |directly |right )at ({NP})"
+        ),
+        r"\1 toward \2",
+    ),
+    (re.compile(rf"\b(towards?|at) ({NP}) closing in\b"), r"\1 \2"),
+    # "while a car is ahead of it": with one there
+    (re.compile(rf"\b(?:while|when|whenever) (an? |some |\d+ )({NOUN}) (?:is|are) "), r"with \1\2 "),
     # "the ego speed is above 20 mph": the ego going above it
     (re.compile(rf"^({_EGO}|(?:the |a )?{NOUN})(?:'s?)? speed is\b"), r"\1 going"),
     # "..., please": politeness
@@ -397,6 +438,14 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
             r"(m|meters?|metres?)(?![\w/])"
         ),
         r"within \1 \2",
+    ),
+    # last, after "oncoming X" has named the ego: "vehicles close behind the AV while it brakes",
+    # "oncoming vehicles while the AV is turning left": the ego's own (no road user between)
+    (
+        re.compile(rf"\b({_EGO})(.*?) (?:while|when|whenever) (?:{_EGO} is|it is|it) (.+)$"),
+        lambda m: (
+            m[0] if re.search(rf"(?<![\w-])(?:{NOUN})(?![\w-])", m[2]) else f"{m[1]} that is {m[3]}{m[2]}"
+        ),
     ),
 )
 
