@@ -489,6 +489,7 @@ def test_bracketed_numbers_and_symbols_are_read_as_words() -> None:
     program = _program("oncoming cars while the AV is turning right")
     assert "related_1 = turning(related_1, log_dir, direction='right')" in program
     assert "reverse_relationship(following)" in _program("bus with a car following behind it")
+    assert "within_angle=30" in _program("pedestrian facing ego vehicle within 30 degrees")  # fresh21
 
 
 def test_a_stated_top_speed_at_walking_pace_or_below_includes_standing_still() -> None:

@@ -127,6 +127,7 @@ SPLITS: tuple[str, ...] = (
     "fresh18",
     "fresh19",
     "fresh20",
+    "fresh21",
     "fresh22",
 )
 

@@ -347,6 +347,12 @@ PHRASES: tuple[Phrase, ...] = (
         "get_objects_in_relative_direction", "within_distance={dist}", sides=("left", "right"), any_side=True,
         implied=EGO,
     ),
+    # "facing X within 30 degrees": the angle stated
+    Phrase(
+        r"(?:facing|pointed at|pointing at|looking at)(?: towards?)? {obj} within (?P<angle>\d+(?:\.\d+)?)"
+        r" ?(?:degrees?|deg|°)",
+        "facing_toward", "within_angle={angle}",
+    ),
     Phrase(
         r"(?:(?:pointed|facing|pointing) (?:right |directly |straight )?(?:at|towards?)|facing) {obj}"
         r" (?:from )?(?:less than|within|under) "
