@@ -492,6 +492,25 @@ def test_bracketed_numbers_and_symbols_are_read_as_words() -> None:
     assert "within_angle=30" in _program("pedestrian facing ego vehicle within 30 degrees")  # fresh21
 
 
+def test_questions_number_words_and_units_in_words_are_read() -> None:  # from the spent fresh23
+    assert "direction='right'" in _program("How often do cars change lanes to the right?")
+    program = _program(
+        "When does the ego have a vehicle less than ten metres directly ahead of it, within about a lane?"
+    )
+    assert "direction='forward', within_distance=10, lateral_thresh=1" in program
+    assert "distance_thresh=15, min_objects=3" in _program(
+        "Cars with at least three pedestrians within fifteen metres"
+    )
+    assert "min_velocity=2.0" in _program("Pedestrians walking quicker than two metres a second")
+    assert "at_pedestrian_crossing(subject, log_dir, within_distance=5)" in _program(
+        "When is the ego within five metres of a crosswalk?"
+    )
+    assert "max_distance=15" in _program(
+        "List every moment a pedestrian is walking toward the ego from within 15 m"
+    )
+    assert "min_accel=1" in _program("Cars speeding up at more than one metre per second squared")
+
+
 def test_a_stated_top_speed_at_walking_pace_or_below_includes_standing_still() -> None:
     assert "has_velocity(subject, log_dir, min_velocity=0, max_velocity=0.45)" in _program(
         "cars slower than 1 mph"

@@ -129,6 +129,7 @@ SPLITS: tuple[str, ...] = (
     "fresh20",
     "fresh21",
     "fresh22",
+    "fresh23",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.

@@ -30,7 +30,9 @@ __all__ = [
 
 WORD_NUMBERS = {
     "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6", "seven": "7",
-    "eight": "8", "nine": "9", "ten": "10", "twenty": "20", "thirty": "30", "fifty": "50",
+    "eight": "8", "nine": "9", "ten": "10", "eleven": "11", "twelve": "12", "fifteen": "15",
+    "twenty": "20", "twenty-five": "25", "thirty": "30", "forty": "40", "fifty": "50", "sixty": "60",
+    "hundred": "100",
 }  # fmt: skip
 ORDINALS = {"first": "1", "second": "2", "third": "3", "fourth": "4", "fifth": "5"}
 #: Verbs in the base or present form, as the tables read them ("a car turns left", "car that
@@ -102,9 +104,12 @@ _SEARCH_VERB = re.compile(
     r"^(?:please )?(?:(?:could|can|would|will) you (?:please )?)?"
     r"(?:(?:i |we )?(?:need|want|would like|am looking for|'m looking for|are looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
-    r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any)"
-    r"(?: (?:all|every|any|the|an?))?(?: (?:instances|cases|examples|occurrences|situations"
-    r"|scenarios|scenes|frames|moments|events|clips) (?:of|where|with|in which))?\s+"
+    r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any"
+    r"|how often (?:do|does|is|are)(?: there)?|when (?:do|does|is|are)(?: there)?"
+    r"|list every (?:time|moment|instance|case)(?: (?:that|when|where))?)"
+    r"(?: (?:all|every|any|the|an?))?(?: (?:instances?|cases?|examples?|occurrences?|situations?"
+    r"|scenarios?|scenes?|frames?|moments?|events?|clips?|times?)"
+    r"(?: (?:of|where|with|in which|when|that))?)?\s+"
 )
 #: A list of three or more road users ("pedestrians, cyclists or scooters").
 _LIST = re.compile(
@@ -160,6 +165,11 @@ def normalised_text(description: str) -> str:
     text = " ".join(text.replace("(", " ").replace(")", " ").split())
     text = re.sub(r"\s*>=?\s*", " more than ", text)
     text = re.sub(r"\s*<=?\s*", " less than ", text).strip()
+    # units in words: "metres a second", "metre per second squared", "miles an hour"
+    text = re.sub(r"\b(?:metres?|meters?) (?:a|per) second (?:squared|per second)\b", "m/s^2", text)
+    text = re.sub(r"\b(?:metres?|meters?) (?:a|per) second\b", "m/s", text)
+    text = re.sub(r"\b(?:kilometres?|kilometers?) (?:an|per) hour\b", "km/h", text)
+    text = re.sub(r"\bmiles? (?:an|per) hour\b", "mph", text)
     # a search verb before the request ("find all instances of trucks ...")
     text = _SEARCH_VERB.sub("", text)
     # feet as metres ("within 20 feet": 6.096 m)
@@ -231,6 +241,17 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     ),
     # "close behind X within 10 m": the distance says how close
     (re.compile(r"\bclose (behind|ahead of|in front of)\b(?=.* within \d)"), r"\1"),
+    # "the ego have a vehicle ... ahead" (after "when does"): the ego with one
+    (
+        re.compile(
+            rf"^((?:the |a |an |all )?{NOUN}) (?:have|has)"
+            r" (?=an? |some |\d|multiple |several |many |at least )"
+        ),
+        r"\1 with ",
+    ),
+    (re.compile(r",? ?within (?:about |roughly )?(?:a|one) lane(?: width)?$"), ""),
+    (re.compile(r"\bfrom within\b"), "within"),
+    (re.compile(r"\b(?:quicker|speedier) than\b"), "faster than"),
     # "looking at / facing X": facing it
     (re.compile(r"\b(?:looking|staring) at ?/ ?(?=facing)"), ""),
     # "going the same way" (as the ego)
@@ -438,6 +459,15 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
             r"(m|meters?|metres?)(?![\w/])"
         ),
         r"within \1 \2",
+    ),
+    # "a vehicle within 10 m directly ahead of it": the distance after the direction (after
+    # "less than 10 m" became "within 10 m")
+    (
+        re.compile(
+            r"\b(within \d+(?:\.\d+)? ?(?:m|meters?|metres?)) ((?:directly |right |just |straight )?"
+            r"(?:ahead|in front|behind) of (?:it|them))"
+        ),
+        r"\2 \1",
     ),
     # last, after "oncoming X" has named the ego: "vehicles close behind the AV while it brakes",
     # "oncoming vehicles while the AV is turning left": the ego's own (no road user between)
