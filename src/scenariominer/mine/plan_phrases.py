@@ -221,6 +221,9 @@ _IT = r"(?:it|them|him|her)"
 _ALONG = "{lateral}"
 _GET_IN_DIRECTION = "get_objects_in_relative_direction"
 _DIRECTLY = r"(?P<directly>(?:directly|right|just|straight|immediately) )?"
+#: "with a car (right) beside it", then optionally " on its left (side)"
+_HAVE_BESIDE_IT = _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:beside|next to|alongside) " + _IT
+_ON_ITS_SIDE = r" (?:on |to )(?:their |its |his |her |the )(?P<dir>left|right)(?: side| hand side)?"
 EGO = "the ego vehicle"
 #: ``implied``: the road user of the last relation read (the ego when there is none)
 LAST = "<last>"
@@ -546,21 +549,11 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     # "with a car (right) beside it on the left": that side, close ("beside it": either side); a
     # stated distance says how close
-    Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:beside|next to|alongside) " + _IT
-        + r" (?:on |to )(?:their |its |his |her |the )(?P<dir>left|right)(?: side| hand side)?"
-        + r" within " + _DIST,
-        "has_objects_in_relative_direction", "within_distance={dist}", "{dir}",
-    ),
-    Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:beside|next to|alongside) " + _IT
-        + r" (?:on |to )(?:their |its |his |her |the )(?P<dir>left|right)(?: side| hand side)?",
-        "has_objects_in_relative_direction", _BESIDE_ONE, "{dir}",
-    ),
-    Phrase(
-        _HAVE + r" " + _QUANTITY + r"{obj} " + _DIRECTLY + r"(?:beside|next to|alongside) " + _IT,
-        "has_objects_in_relative_direction", _BESIDE_ONE, sides=("left", "right"), any_side=True,
-    ),
+    Phrase(_HAVE_BESIDE_IT + _ON_ITS_SIDE + r" within " + _DIST, "has_objects_in_relative_direction",
+            "within_distance={dist}", "{dir}"),
+    Phrase(_HAVE_BESIDE_IT + _ON_ITS_SIDE, "has_objects_in_relative_direction", _BESIDE_ONE, "{dir}"),
+    Phrase(_HAVE_BESIDE_IT, "has_objects_in_relative_direction", _BESIDE_ONE, sides=("left", "right"),
+            any_side=True),
     # "a vehicle that has another vehicle following it": the one followed
     Phrase(
         _HAVE + r" " + _QUANTITY + r"{obj} (?:following|tailgating|trailing)(?: closely)?(?: behind)? " + _IT,

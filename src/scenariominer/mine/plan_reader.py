@@ -307,11 +307,7 @@ def _stated_numbers_win(reading: _Reading) -> None:
     acceleration replaces what "swerving" reads (:func:`_stated_lateral_wins`).
     """
     _stated_lateral_wins(reading)
-    for cond in reading.conditions:  # "slower than 1 mph": at rest counts (the default 0.5 is above it)
-        arg = cond["argument"] or ""
-        top = re.fullmatch(r"max_velocity=([\d.]+)", arg)
-        if cond["function"] == "has_velocity" and top and float(top.group(1)) <= _MOVING_MPS:
-            cond["argument"] = f"min_velocity=0, {arg}"
+    _standing_counts_below_walking_pace(reading)
     for (function, argument), key in ((SLOW, "max_velocity"), (HARD_BRAKING, "max_accel")):
         defaults = [{"function": function, "negated": False, "argument": argument}]
         if function == "accelerating":
@@ -322,6 +318,18 @@ def _stated_numbers_win(reading: _Reading) -> None:
         )
         if stated:
             reading.conditions[:] = [c for c in reading.conditions if c not in defaults]
+
+
+def _standing_counts_below_walking_pace(reading: _Reading) -> None:
+    """At rest counts under a stated top speed at walking pace or below ("slower than 1 mph").
+
+    has_velocity's default lower bound (0.5 m/s) would otherwise leave nothing to find.
+    """
+    for cond in reading.conditions:
+        arg = cond["argument"] or ""
+        top = re.fullmatch(r"max_velocity=([\d.]+)", arg)
+        if cond["function"] == "has_velocity" and top and float(top.group(1)) <= _MOVING_MPS:
+            cond["argument"] = f"min_velocity=0, {arg}"
 
 
 #: has_velocity's default lower bound (m/s): below it an object counts as not moving.

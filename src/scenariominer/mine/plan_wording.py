@@ -201,6 +201,8 @@ _SHARED_VERB = re.compile(
 )
 #: The ego vehicle's names in a normalised text.
 _EGO = r"(?:the )?ego(?: vehicle| car)?"
+#: Any road-user word.
+_ROAD_USER = re.compile(rf"(?<![\w-])(?:{NOUN})(?![\w-])")
 _SPEED_UNITS = "|".join(map(re.escape, TO_MPS))
 #: Other wordings put in the one form the tables read: (pattern, replacement).
 _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
@@ -473,9 +475,7 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # "oncoming vehicles while the AV is turning left": the ego's own (no road user between)
     (
         re.compile(rf"\b({_EGO})(.*?) (?:while|when|whenever) (?:{_EGO} is|it is|it) (.+)$"),
-        lambda m: (
-            m[0] if re.search(rf"(?<![\w-])(?:{NOUN})(?![\w-])", m[2]) else f"{m[1]} that is {m[3]}{m[2]}"
-        ),
+        lambda m: m[0] if _ROAD_USER.search(m[2]) else f"{m[1]} that is {m[3]}{m[2]}",
     ),
 )
 
