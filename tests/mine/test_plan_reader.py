@@ -904,3 +904,33 @@ def test_mine_says_plainly_when_nothing_matches_and_no_model_was_asked(
     assert "no match of 'person in a wheelchair' in 1 log(s)" in result.output
     assert "no model call" in result.output and "attempt(s)" not in result.output
     assert "┏" not in result.output  # no empty table
+
+
+def _cells(description: str) -> int:
+    result = run_trusted_program(_program(description), SCENE, description=description)
+    assert result.ok and result.scenario is not None, result.error
+    return result.scenario.n_referred_cells
+
+
+def test_a_road_user_ahead_or_behind_in_the_same_lane_is_one_and_the_same() -> None:
+    # the changer drives 20 m behind the ego in its lane until it moves over (t = 2-4 s); other
+    # vehicles are behind the ego all along, in other lanes, while the lead shares its lane
+    with_one = _cells("the ego vehicle with a vehicle behind it in the same lane")
+    without = _cells("the ego vehicle with no vehicle behind it in the same lane")
+    assert _cells("the ego vehicle with a vehicle behind it") == len(T_S)
+    assert 20 <= with_one <= 40
+    assert with_one + without == len(T_S)
+
+
+def test_a_clear_road_ahead_and_a_gap_under_a_distance() -> None:  # from the spent fresh22 run
+    negated = (
+        "scenario_not(has_objects_in_relative_direction)(subject, related_1, log_dir, direction='forward'"
+    )
+    assert negated + ")" in _program("the ego vehicle with a clear road ahead")
+    assert negated + ", within_distance=30)" in _program(
+        "cars with an empty road ahead (no vehicle in front within 30 m)"
+    )
+    assert _referred("the ego vehicle with a clear road ahead") == set()  # the lead is ahead
+    assert "near_objects(step_1, related_1, log_dir, distance_thresh=8)" in _program(
+        "vehicles following the ego with a gap of less than 8 m"
+    )

@@ -46,7 +46,7 @@ from scenariominer.mine.plan_reader import one_or_many, subject_categories
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/10"
+PLAN_PROGRAM_VERSION = "plan-program/11"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -132,7 +132,7 @@ def compile_plan(plan: Mapping[str, Any]) -> CompiledPlan:
         current = f"step_{step}"
 
     objects = _related_objects(plan, lines)
-    for rel in plan.get("relations", []):
+    for rel in _lane_of_related(plan, objects, lines):
         step += 1
         if rel.get("function") == IN_LINE:
             call = _in_line_call(rel, current, objects, plan, lines, step)
@@ -304,6 +304,34 @@ def _relation_call(
             f"relation {name}: {rel.get('other_words')!r} is not one of the planned objects"
         )
     return f"{name}({current}, {other}, log_dir{kwargs})"
+
+
+def _lane_of_related(plan: Mapping[str, Any], objects: Mapping[str, str], lines: list[str]) -> list[Any]:
+    """The plan's relations, with "X ahead ... in the same lane" read as one object X.
+
+    "with a vehicle ahead in the same lane" asks for a vehicle that is both ahead and in the
+    subject's lane; read as two relations, any vehicle ahead and any vehicle sharing the lane
+    would do, and "with *no* vehicle ahead in the same lane" would mean no vehicle ahead at all.
+    So when an object the subject has in a direction is the one an ``in_same_lane`` relation of
+    the subject names (and no other relation uses it), that object's set is narrowed to the
+    objects sharing a lane with the subject and the ``in_same_lane`` relation is dropped.
+    """
+    relations = list(plan.get("relations", []))
+    subject_words = _norm(str(plan.get("subject_words", "")))
+
+    def of_subject(rel: Mapping[str, Any]) -> bool:
+        return _norm(str(rel.get("subject_words", ""))) in ("", subject_words)
+
+    for lane in [r for r in relations if r.get("function") == "in_same_lane" and not r.get("negated")]:
+        other = _norm(str(lane.get("other_words", "")))
+        users = [r for r in relations if _norm(str(r.get("other_words", ""))) == other]
+        var = objects.get(str(lane.get("other_words", "")).strip().lower())
+        directed = [r for r in users if r.get("function") == "has_objects_in_relative_direction"]
+        if var is None or len(users) != 2 or len(directed) != 1 or not all(map(of_subject, users)):
+            continue
+        lines.append(f"{var} = in_same_lane({var}, subject, log_dir)")
+        relations.remove(lane)
+    return relations
 
 
 def _subject(plan: Mapping[str, Any]) -> tuple[str, str | list[str]]:

@@ -144,6 +144,13 @@ def _metres(feet: str) -> str:
     return f"{round(float(feet) * 0.3048, 3):g}"
 
 
+#: "a clear road ahead" (read as no vehicle ahead).
+_CLEAR_ROAD = (
+    r"(?:an? )?(?:clear|empty|free|open) (?:road|lane|path|way|space)"
+    r"(?: (?:ahead|in front)(?: of (?:it|them))?)?"
+)
+
+
 def normalised_text(description: str) -> str:
     """Lower case, single spaces, no final full stop, number words as digits ("three" -> "3").
 
@@ -162,6 +169,8 @@ def normalised_text(description: str) -> str:
     # brackets: an explanation with "etc" adds nothing, a word repeating the verb neither; other
     # bracketed words are read as plain words ("... (within 20 m)", "(> 1 m/s)")
     text = re.sub(r"\([^()]*\betc\b[^()]*\)|\((?:overtaken|overtaking|passing|lane change)\)", " ", text)
+    # "with a clear road ahead (no vehicle within 30 m in front)": the definition in brackets
+    text = re.sub(rf"\bwith {_CLEAR_ROAD} \((no [^()]*)\)", r"with \1", text)
     text = " ".join(text.replace("(", " ").replace(")", " ").split())
     text = re.sub(r"\s*>=?\s*", " more than ", text)
     text = re.sub(r"\s*<=?\s*", " less than ", text).strip()
@@ -225,6 +234,19 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (re.compile(r"\b(on|to) (left|right) (?:side )?of\b"), r"\1 the \2 of"),
     (re.compile(r"\b(in|inside|within|on|outside|off|out of) drivable area\b"), r"\1 the drivable area"),
     (re.compile(r"\bsame lane with\b"), "same lane as"),
+    # "following X with a gap under 10 m": closer than that
+    (
+        re.compile(
+            r"\b(?:with |at )?(?:an? |the )?(?:gap|headway|spacing|distance)(?: of)?"
+            r" (?:under|less than|below|smaller than|shorter than) (?=\d)"
+        ),
+        "closer than ",
+    ),
+    # "with a clear road ahead": no vehicle ahead
+    (
+        re.compile(rf"\bwith {_CLEAR_ROAD}(?![\w-])"),
+        "with no vehicle ahead",
+    ),
     (re.compile(r"\b(?:a |the )?lane of (?:the )?type (\w+)\b"), r"a \1 lane"),
     # "turns, any direction": turning (either way)
     (re.compile(r"\b(turning|turns?) (?:in )?(?:any|either) direction\b"), r"\1"),
