@@ -130,6 +130,7 @@ SPLITS: tuple[str, ...] = (
     "fresh21",
     "fresh22",
     "fresh23",
+    "fresh24",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
