@@ -131,6 +131,7 @@ SPLITS: tuple[str, ...] = (
     "fresh22",
     "fresh23",
     "fresh24",
+    "fresh25",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
