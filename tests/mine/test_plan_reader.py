@@ -934,3 +934,63 @@ def test_a_clear_road_ahead_and_a_gap_under_a_distance() -> None:  # from the sp
     assert "near_objects(step_1, related_1, log_dir, distance_thresh=8)" in _program(
         "vehicles following the ego with a gap of less than 8 m"
     )
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # from the spent fresh24 run: specification lines ("key: value; key: value"), "where"
+        # clauses, "passed by X" without "being", adjectives before a bracketed list of subtypes
+        ("actor: vehicle; manoeuvre: right turn; location: on an intersection", {"turner"}),
+        ("actor: car; manoeuvre: lane change to the left", {"changer"}),
+        ("ego: following a car | speed: above 5 m/s", {"ego"}),
+        ("ego: following a car | speed: above 12 m/s", set()),  # the ego drives at 10 m/s
+        ("ego where speed is above 8 m/s and a vehicle is following it", {"ego"}),
+        ("cars where they are turning right", {"turner"}),
+        ("pedestrians where their speed exceeds 1 m/s", {"ped"}),
+        ("vehicles where a pedestrian is crossing in front of them", {"lead"}),
+        ("vehicles passed on their left by a moving vehicle", {"ego"}),
+    ],
+)
+def test_specification_lines_and_where_clauses_are_read(description: str, expected: set[str]) -> None:
+    assert _referred(description) == expected
+
+
+def test_adjectives_before_a_bracketed_list_of_subtypes_are_kept() -> None:
+    program = _program("parked trucks of any kind (truck, box truck or truck cab)")
+    assert "'TRUCK_CAB'" in program and "stationary(subject, log_dir)" in program
+    assert "within_distance=20" in _program("vehicles where no other vehicle is ahead within 20 m")
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # from the spent fresh25 run: a story in the past tense, the first person, drivers' idioms
+        ("a car that overtook us on the left", {"overtaker"}),
+        ("a car that passed us", {"overtaker"}),
+        ("we were tailing another car down the road", {"ego"}),
+        ("a car that hung a right in the middle of the intersection", {"turner"}),
+        ("a car that moved over into the lane on its left", {"changer"}),
+        ("vehicles that switched lanes to the left", {"changer"}),
+        ("a pedestrian who was looking straight at our car", {"pedA"}),
+        ("people walking over the zebra crossing", {"ped"}),
+        ("a car that stayed on our tail in our lane", {"changer"}),  # until it moves over
+        ("cars that cut across our direction of travel at right angles", {"turner"}),
+        ("vehicles that were not cars, like trucks and buses, out on the road", {"bus", "ego"}),
+        ("cars that were parked on the road", {"parked"}),
+    ],
+)
+def test_a_story_in_the_past_tense_and_the_first_person_is_read(description: str, expected: set[str]) -> None:
+    assert _referred(description) == expected
+
+
+def test_a_finished_stop_is_stopped_and_walking_past_is_walking_near() -> None:
+    assert "scenario_or([stationary(subject, log_dir), has_velocity(subject" in _program(
+        "buses that had come to a stop"
+    )
+    program = _program("a pedestrian strolling past a parked car")
+    assert "has_velocity(subject, log_dir, min_velocity=0.5)" in program
+    assert "related_1 = stationary(related_1, log_dir)" in program
+    assert "near_intersection(subject, log_dir)" in _program(
+        "a car speeding up as it left the intersection area"
+    )

@@ -459,11 +459,13 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:overtaking|passing) {obj}(?: on (?:the|its|their) left(?: side| hand side)?)?",
             "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", reverse=True),
-    Phrase(r"being (?:overtaken|passed) on (?:the|their|its) right(?: side)? by {obj}", "being_crossed_by",
+    Phrase(r"(?:being |getting )?(?:overtaken|passed) on (?:the|their|its) right(?: side)? by {obj}",
+           "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
-    Phrase(r"being (?:overtaken|passed) by {obj} on the right", "being_crossed_by",
+    Phrase(r"(?:being |getting )?(?:overtaken|passed) by {obj} on the right", "being_crossed_by",
             "in_direction='counterclockwise', forward_thresh=4", "right"),
-    Phrase(r"being (?:overtaken|passed) (?:on (?:the|their|its) left(?: side)? )?by {obj}(?: on the left)?",
+    Phrase(r"(?:being |getting )?(?:overtaken|passed) (?:on (?:the|their|its) left(?: side)? )?by {obj}"
+           r"(?: on the left)?",
            "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left"),
     # ... by a vehicle, when the overtaker is not named
@@ -471,10 +473,11 @@ PHRASES: tuple[Phrase, ...] = (
             "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
     Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
-    Phrase(r"(?:following|tailgating|trailing|(?:driving |travell?ing )?closely behind) {obj}"
+    Phrase(r"(?:following|tailgating|tailing|trailing|(?:driving |travell?ing )?closely behind) {obj}"
             r" in (?:the )?same lane",
             "following"),
-    Phrase(r"(?:following|tailgating|trailing|(?:following |driving |riding |travell?ing )?closely behind"
+    Phrase(r"(?:following|tailgating|tailing|trailing"
+           r"|(?:following |driving |riding |travell?ing )?closely behind"
             r"|driving behind) {obj}"
             r"(?: too closely| closely)?", "following"),
     Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
@@ -492,7 +495,8 @@ PHRASES: tuple[Phrase, ...] = (
         "heading_toward",
     ),
     Phrase(
-        r"(?:(?:directly )?facing(?: towards?)?|looking (?:towards?|at)|turned towards?"
+        r"(?:(?:directly )?facing(?: towards?)?|looking (?:straight |directly |right )?(?:towards?|at)"
+        r"|turned towards?"
         r"|(?:pointed|pointing|aimed|aiming) (?:directly |straight )?(?:at|towards?)) {obj}",
         "facing_toward",
     ),

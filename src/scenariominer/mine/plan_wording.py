@@ -14,6 +14,7 @@ import re
 from collections.abc import Callable
 from typing import Any
 
+from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_phrases import CATEGORY_PHRASES, MODIFIERS, TO_MPS
 
 __all__ = [
@@ -134,9 +135,75 @@ def _listed_road_users(text: str) -> str:
         text,
     )
     bracketed = _BRACKETED_SUBJECT.match(text)
-    if bracketed is not None and SUBJECT.match(text):
-        text = bracketed["noun"] + text[bracketed.end() :]
+    subject = SUBJECT.match(text)
+    if bracketed is not None and subject is not None:
+        # the adjectives before the bracket stay: "parked trucks (truck or box truck)"
+        mods = subject["mods"]
+        text = mods + bracketed["noun"] + text[bracketed.end() :]
     return text
+
+
+#: Keys of a specification line ("actor: vehicle; manoeuvre: right turn; location: ..."), by role.
+_SPEC_ROLES: dict[str, str] = {
+    **dict.fromkeys(
+        ("actor", "subject", "agent", "object", "target", "road user", "type", "category"), "actor"
+    ),
+    "ego": "ego",
+    **dict.fromkeys(
+        ("manoeuvre", "maneuver", "manoeuver", "action", "behaviour", "behavior", "motion", "activity"),
+        "motion",
+    ),
+    **dict.fromkeys(
+        (
+            "condition", "relation", "location", "context", "constraint", "where", "place", "map",
+            "area", "speed", "filter", "interaction", "trigger", "situation", "other", "with",
+        ),
+        "clause",
+    ),
+}  # fmt: skip
+_SPEC_PART = re.compile(r"^\s*(?P<key>[a-z][a-z ]*?)\s*[:=]\s*(?P<value>\S.*?)\s*$")
+#: A manoeuvre named by a noun: "right turn" -> "turning right", "lane change to the left".
+_MANOEUVRE_NOUNS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"^(?:an? )?(left|right)[- ]turns?$"), r"turning \1"),
+    (re.compile(r"^(?:an? )?turns?(?: to the (left|right))?$"), r"turning \1"),
+    (
+        re.compile(r"^(?:an? )?lane[- ]changes?(?P<rest>(?: to the (?:left|right))?)$"),
+        r"changing lanes\g<rest>",
+    ),
+)
+
+
+def _spec_lines(text: str) -> str:
+    """A specification of ``key: value`` parts as one sentence, or ``text`` when it is none.
+
+    "actor: vehicle; manoeuvre: right turn; condition: a pedestrian crosses in front of it" ->
+    "vehicle turning right and with a pedestrian crosses in front of it"; "ego: turning left |
+    location: on an intersection" -> "the ego vehicle turning left and on an intersection". At
+    least two parts, separated by ";" or "|", each with a known key.
+    """
+    parts = [p for p in re.split(r"\s*[;|]\s*", text.strip().rstrip(".")) if p]
+    found = [_SPEC_PART.match(p) for p in parts]
+    if len(parts) < 2 or any(f is None or f["key"] not in _SPEC_ROLES for f in found):
+        return text
+    actor, clauses = "", []
+    for f in found:
+        assert f is not None
+        role, value = _SPEC_ROLES[f["key"]], f["value"]
+        if role == "actor":
+            actor = value
+        elif role == "ego":
+            actor = actor or "the ego vehicle"
+            clauses.append(value)
+        elif role == "motion":
+            for pattern, replacement in _MANOEUVRE_NOUNS:
+                value = pattern.sub(replacement, value).rstrip()
+            clauses.insert(0, value)
+        else:
+            starts_with_user = re.match(rf"(?:an?|another|some|\d+|at least \d+|no|other) {NP}", value)
+            clauses.append(f"with {value}" if starts_with_user else value)
+    if not actor:
+        return text
+    return f"{actor} {' and '.join(clauses)}".strip()
 
 
 def _metres(feet: str) -> str:
@@ -158,7 +225,10 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = " ".join(_listed_road_users(description.lower()).replace(",", " ").split()).rstrip(".!?")
+    text = present_tense(_spec_lines(" ".join(description.lower().split())))
+    # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
+    text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
+    text = " ".join(_listed_road_users(text).replace(",", " ").split()).rstrip(".!?")
     # "jaywalkers, i.e. pedestrians on the road ...": the definition after "i.e." when it names a
     # road user first
     _, ie, definition = text.partition(" i.e. ")
@@ -242,6 +312,8 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         "closer than ",
     ),
+    # "following the ego vehicle in the same lane as the ego vehicle": in the same lane
+    (re.compile(rf"\b(?P<np>{NP}) in (?:the )?same lane as (?P=np)(?![\w-])"), r"\g<np> in the same lane"),
     # "with a clear road ahead": no vehicle ahead
     (
         re.compile(rf"\bwith {_CLEAR_ROAD}(?![\w-])"),
@@ -449,6 +521,32 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
             r"|direction)\b"
         ),
         r"\1",
+    ),
+    # "X where a vehicle is following it", "... and no other vehicle is ahead": with one doing so
+    (
+        re.compile(
+            rf"\b(?:where|whenever|in which|and) (?P<np>(?:an?|another|some|no|no other|other) {NP})"
+            r" (?:is|are) "
+        ),
+        r"with \g<np> ",
+    ),
+    # "X where they are ...", "X where it turns": a clause about the subject
+    (re.compile(r"^(.*?) where (?:they|it) (?:are|is) "), r"\1 that are "),
+    (re.compile(r"^(.*?) where (?:they|it) "), r"\1 that "),
+    # "where speed is above 8 m/s", "where acceleration exceeds 1.5 m/s²": with that
+    (
+        re.compile(
+            r"\b(?:where|whenever|when) (?:its |their |the )?(speed|velocity|acceleration|deceleration)"
+            r" (?:is )?"
+        ),
+        r"with \1 ",
+    ),
+    (
+        re.compile(
+            r"\b(speed|velocity|acceleration|deceleration) (?:is )?(?:exceeds?|exceeding|greater than"
+            r"|higher than)(?= \d)"
+        ),
+        r"\1 above",
     ),
     # contractions: "aren't parked" -> "are not parked"
     (re.compile(r"\b(are|is|was|were|do|does|did|has|have)n't\b"), r"\1 not"),
