@@ -132,6 +132,7 @@ SPLITS: tuple[str, ...] = (
     "fresh23",
     "fresh24",
     "fresh25",
+    "fresh26",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
