@@ -994,3 +994,29 @@ def test_a_finished_stop_is_stopped_and_walking_past_is_walking_near() -> None:
     assert "near_intersection(subject, log_dir)" in _program(
         "a car speeding up as it left the intersection area"
     )
+
+
+def test_ranges_counts_and_places_of_a_data_curators_wording() -> None:  # from the spent fresh26
+    assert _referred("people within 2 m of a pedestrian crossing") == {"ped"}
+    assert "at_pedestrian_crossing(subject, log_dir, within_distance=2)" in _program(
+        "people within 2 m of a pedestrian crossing"
+    )
+    assert "scenario_not(on_intersection)(subject, log_dir)" in _program(
+        "vehicles turning right somewhere other than on an intersection"
+    )
+    assert _referred("cars surrounded by at least 6 other vehicles within 20 m") == set()
+    assert "distance_thresh=20, min_objects=2" in _program(
+        "cars surrounded by at least 2 other vehicles within 20 m"
+    )
+    assert "direction='forward', lateral_thresh=1" in _program(
+        "vehicles with a vehicle ahead of them in roughly their own lane"
+    )
+    closing = "cars approaching the ego vehicle within 50 m, closing the gap at {} m/s or more"
+    assert _referred(closing.format(3)) == {"oncoming", "overtaker"}
+    assert _referred(closing.format(30)) == set()
+    assert "accelerating(subject, log_dir, min_accel=-3, max_accel=-1)" in _program(
+        "cars decelerating at between 1 and 3 m/s²"
+    )
+    assert "accelerating(subject, log_dir, min_accel=0.5, max_accel=2)" in _program(
+        "cars speeding up at between 0.5 and 2 m/s²"
+    )

@@ -181,6 +181,10 @@ COUNT_KEYWORD = {"has_objects_in_relative_direction": "min_number", "near_object
 _ACCEL = (
     r"(?P<accel>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
 )
+_ACCEL_RANGE = (
+    r"(?P<lo>\d+(?:\.\d+)?) (?:and|to|-) (?P<hi>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2"
+    r"|(?:meters|metres) per second(?: squared| per second)?)"
+)
 #: Not followed by a side ("within 20 m *behind them*" is a relation in that direction).
 _NO_SIDE = r"(?! (?:ahead|in front|behind|in back|(?:on|to) (?:their |its |the )?(?:left|right)))"
 _MORE_THAN = (
@@ -244,6 +248,12 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?:heading|moving|driving|going|approaching|closing in on) (?:towards? )?{obj} (?:with|at) a"
         r" (?:closing|approach(?:ing)?) speed (?:of )?(?:at least|more than|over|above) " + _SPEED,
         "heading_toward", "minimum_speed={speed}",
+    ),
+    Phrase(
+        r"(?:heading|moving|driving|going|approaching|closing in on) (?:towards? )?{obj} within " + _DIST
+        + r" (?:with|at) a (?:closing|approach(?:ing)?) speed (?:of )?(?:at least|more than|over|above) "
+        + _SPEED,
+        "heading_toward", "max_distance={dist}, minimum_speed={speed}",
     ),
     # "going straight (ahead)": not turning (before the bare "ahead", a relation to the ego)
     Phrase(
@@ -378,6 +388,11 @@ PHRASES: tuple[Phrase, ...] = (
     ),
     Phrase(_NOT_SIDEWAYS + r"(?:" + _HAVE + r" )?(?:an )?acceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel={accel}"),
+    # "decelerating at between 1 and 3 m/s²": a range of the acceleration (negative when slowing)
+    Phrase(r"(?:accelerating|speeding up) (?:at )?between " + _ACCEL_RANGE, "accelerating",
+           "min_accel={lo}, max_accel={hi}"),
+    Phrase(r"(?:decelerating|braking|slowing(?: down)?) (?:at )?between " + _ACCEL_RANGE, "accelerating",
+           "min_accel=-{hi}, max_accel=-{lo}"),
     Phrase(r"(?:decelerating|braking|slowing(?: down)?) (?:at )?" + _MORE_THAN + " " + _ACCEL,
             "accelerating", "min_accel=-inf, max_accel=-{accel}"),
     Phrase(_NOT_SIDEWAYS + r"(?:" + _HAVE + r" )?(?:a )?deceleration (?:of )?" + _MORE_THAN + " " + _ACCEL,

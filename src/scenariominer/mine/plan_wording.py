@@ -314,6 +314,28 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     ),
     # "following the ego vehicle in the same lane as the ego vehicle": in the same lane
     (re.compile(rf"\b(?P<np>{NP}) in (?:the )?same lane as (?P=np)(?![\w-])"), r"\g<np> in the same lane"),
+    # "within 2 m of a pedestrian crossing": the crosswalk, not a pedestrian crossing the road
+    (re.compile(r"\b(of|at|near|on|to|by|in|from) (an?|the) pedestrian crossings?\b"), r"\1 \2 crosswalk"),
+    # "closing the gap at 1 m/s or more": the closing speed
+    (
+        re.compile(r",? (?:closing (?:the gap|in|the distance)) at (\d+(?:\.\d+)? ?m/s) or more\b"),
+        r" with a closing speed of at least \1",
+    ),
+    # "ahead of them in roughly their own lane": directly ahead
+    (
+        re.compile(
+            r"\b(ahead of|in front of|behind) (them|it) in (?:roughly |about |approximately )?"
+            r"(?:their|its) (?:own )?lane\b"
+        ),
+        r"directly \1 \2",
+    ),
+    # "somewhere other than on an intersection": not there
+    (re.compile(r"\b(?:somewhere|anywhere) (?:other than|but|except) "), "not "),
+    # "surrounded by at least 5 vehicles within 10 m": with that many nearby
+    (
+        re.compile(r"\bsurrounded by (?:at least )?(\d+) (?:or more )?(?!.* on all)"),
+        r"with at least \1 ",
+    ),
     # "with a clear road ahead": no vehicle ahead
     (
         re.compile(rf"\bwith {_CLEAR_ROAD}(?![\w-])"),
