@@ -75,8 +75,13 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:stay(?:ed|ing|s)?|sat|sitting|sits) on our tail\b"), "following the ego vehicle"),
     (re.compile(r"\bon our tail\b"), "following the ego vehicle"),
     # a finished stop: "had come to a stop", "had stopped" -> stopped
-    (re.compile(r"\b(?:had|has|have) (?:come|came) to an? (?:stop|halt|standstill)\b"), "that are stopped"),
-    (re.compile(r"\b(?:that|who|which) (?:had|has|have) (stopped|parked)\b"), r"that are \1"),
+    (
+        re.compile(
+            r"\b(?:(?:that|who|which) )?(?:had|has|have) (?:come|came) to an? (?:stop|halt|standstill)\b"
+        ),
+        "that is stopped",
+    ),
+    (re.compile(r"\b(?:that|who|which) (?:had|has|have) (stopped|parked)\b"), r"that is \1"),
     (re.compile(r"\b(?:came|come|coming) to an? (?:halt|standstill)\b"), "coming to a stop"),
     # auxiliaries of a story: "who was looking" -> "who is looking"
     (re.compile(r"\b(?:that|who|which) was\b"), "that is"),
