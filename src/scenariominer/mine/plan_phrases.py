@@ -178,13 +178,9 @@ _NOT = r"(?P<neg>not |without )?"
 _QUANTITY = r"(?:(?P<multi>multiple|several|many) |(?:at least )?(?P<qty>\d+) (?:or more )?)?"
 #: The keyword that takes that count, per relation function.
 COUNT_KEYWORD = {"has_objects_in_relative_direction": "min_number", "near_objects": "min_objects"}
-_ACCEL = (
-    r"(?P<accel>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
-)
-_ACCEL_RANGE = (
-    r"(?P<lo>\d+(?:\.\d+)?) (?:and|to|-) (?P<hi>\d+(?:\.\d+)?) ?(?:m/s2|m/s²|m/s\^2"
-    r"|(?:meters|metres) per second(?: squared| per second)?)"
-)
+_ACCEL_UNIT = r"(?:m/s2|m/s²|m/s\^2|(?:meters|metres) per second(?: squared| per second)?)"
+_ACCEL = r"(?P<accel>\d+(?:\.\d+)?) ?" + _ACCEL_UNIT
+_ACCEL_RANGE = r"(?P<lo>\d+(?:\.\d+)?) (?:and|to|-) (?P<hi>\d+(?:\.\d+)?) ?" + _ACCEL_UNIT
 #: Not followed by a side ("within 20 m *behind them*" is a relation in that direction).
 _NO_SIDE = r"(?! (?:ahead|in front|behind|in back|(?:on|to) (?:their |its |the )?(?:left|right)))"
 _MORE_THAN = (

@@ -138,8 +138,7 @@ def _listed_road_users(text: str) -> str:
     subject = SUBJECT.match(text)
     if bracketed is not None and subject is not None:
         # the adjectives before the bracket stay: "parked trucks (truck or box truck)"
-        mods = subject["mods"]
-        text = mods + bracketed["noun"] + text[bracketed.end() :]
+        text = subject["mods"] + bracketed["noun"] + text[bracketed.end() :]
     return text
 
 
