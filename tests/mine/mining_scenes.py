@@ -199,3 +199,24 @@ def idx(ctx: LogContext, track_id: str) -> int:
 
 def t_index(t_s: float) -> int:
     return int(round(t_s / DT_S))
+
+
+def rules_program(description: str) -> str:
+    """The program the phrase rules build for ``description`` (asserts that they read it in full)."""
+    from scenariominer.mine.plan_program import compile_plan
+    from scenariominer.mine.plan_reader import read_plan
+
+    plan = read_plan(description)
+    assert plan is not None, f"the rules should read {description!r}"
+    assert plan["read_by"] == "rules"
+    return compile_plan(plan).program
+
+
+def rules_referred(ctx: LogContext, description: str) -> set[str]:
+    """The track ids that the rules' program for ``description`` refers to in ``ctx``."""
+    from scenariominer.mine.sandbox import run_trusted_program
+
+    result = run_trusted_program(rules_program(description), ctx, description=description)
+    assert result.ok, result.error
+    assert result.scenario is not None
+    return {ctx.log.track_ids[int(i)] for i in result.scenario.referred_tracks}

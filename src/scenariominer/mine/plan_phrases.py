@@ -448,6 +448,20 @@ PHRASES: tuple[Phrase, ...] = (
         "being_crossed_by", direction="forward",
     ),
     Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
+    # ... behind it: the other road user crosses the line of its rear bumper
+    Phrase(
+        r"(?:(?:crossing|walking across|running across|darting|dashing)(?: the road| the street)?"
+        r" (?:behind|at the (?:back|rear) of)"
+        r"|(?:crossing|walking|running|passing|stepping|darting|dashing) across the (?:back|rear) of) {obj}",
+        "being_crossed_by", direction="backward", reverse=True,
+    ),
+    Phrase(
+        r"(?:with|having) {obj} (?:walking |running |cycling )?(?:crossing|across)"
+        r" (?:behind|at the (?:back|rear) of) (?:them|it)",
+        "being_crossed_by", direction="backward",
+    ),
+    Phrase(r"being crossed (?:from behind|behind|at the (?:back|rear)) by {obj}", "being_crossed_by",
+           direction="backward"),
     # "with a vehicle heading toward them": the other road user moves toward the subject
     Phrase(
         _HAVE + r" {obj} (?:heading|moving|driving|coming|going|walking|riding) (?:straight |directly )?"
@@ -484,10 +498,11 @@ PHRASES: tuple[Phrase, ...] = (
             "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
     Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
-    Phrase(r"(?:following|tailgating|tailing|trailing|(?:driving |travell?ing )?closely behind) {obj}"
+    Phrase(r"(?:following|tailgating|tailing|trailing|hanging back behind|lagging behind"
+           r"|(?:driving |travell?ing )?closely behind) {obj}"
             r" in (?:the )?same lane",
             "following"),
-    Phrase(r"(?:following|tailgating|tailing|trailing"
+    Phrase(r"(?:following|tailgating|tailing|trailing|hanging back behind|lagging behind"
            r"|(?:following |driving |riding |travell?ing )?closely behind"
             r"|driving behind) {obj}"
             r"(?: too closely| closely)?", "following"),

@@ -260,6 +260,13 @@ def normalised_text(description: str) -> str:
     # "the AV('s)": the ego vehicle, the one name the rewordings below know it by
     text = re.sub(r"\b(?:the )?(?:av|adv|sdv)\b", "the ego vehicle", text)
     text = re.sub(r"\b(" + "|".join(WORD_NUMBERS) + r")\b", lambda m: WORD_NUMBERS[m.group(1)], text)
+    # "the nearest car ahead", "the car immediately in front of us": the first in line
+    text = re.sub(r"\b(?:nearest|closest) (cars?|vehicles?) (?=ahead|in front|behind)", r"first \1 ", text)
+    text = re.sub(
+        r"\b(?:the )?(cars?|vehicles?) (?:right|immediately) (?=ahead of|in front of|behind)",
+        r"the first \1 ",
+        text,
+    )
     text = re.sub(
         r"\b(" + "|".join(ORDINALS) + r") (cars?|vehicles?) (?=ahead|in front|forward|behind|back)",
         lambda m: f"{m.group(2)} {ORDINALS[m.group(1)]} {m.group(2)} ",
@@ -284,6 +291,25 @@ _ROAD_USER = re.compile(rf"(?<![\w-])(?:{NOUN})(?![\w-])")
 _SPEED_UNITS = "|".join(map(re.escape, TO_MPS))
 #: Other wordings put in the one form the tables read: (pattern, replacement).
 _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
+    # "someone hanging back behind a bus": a driver (the pedestrian reading of "someone" otherwise)
+    (
+        re.compile(
+            r"\b(?:someone|somebody)(?= (?:who (?:is|was) )?(?:hanging back|lagging|following|tailgating"
+            r"|tailing|trailing|driving|overtaking|cutting in|changing lanes|speeding|parked|double-parked))"
+        ),
+        "a vehicle",
+    ),
+    # "cars that a pedestrian walked across the back of": the subject is the one crossed
+    (
+        re.compile(
+            rf"\b(?:that|which) (?P<np>{NP}) (?:is |was )?(?:crossed|crossing|walked across|walking across"
+            r"|ran across|running across|cut across|cutting across|passed|passing|walked|walking|stepped"
+            r"|stepping)"
+            r" (?P<side>in front of|the front of|behind|the back of|the rear of)"
+            r"(?= (?:and|with|while|at|on|in)\b|$)"
+        ),
+        lambda m: "being crossed " + ("by " if "front" in m["side"] else "from behind by ") + m["np"],
+    ),
     # "the ego vehicle's lane / path"
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),

@@ -1,0 +1,164 @@
+"""Wordings met in hold-out splits once they were scored (spent), read by the phrase rules.
+
+Each test names the spent split its wordings come from; the street scene's tracks are written in
+closed form in tests/mine/mining_scenes.py, so each expected set follows from the numbers there.
+"""
+
+from __future__ import annotations
+
+import pytest
+from mining_scenes import T_S, rules_program, rules_referred, street_scene
+
+from scenariominer.mine.sandbox import run_trusted_program
+
+SCENE = street_scene()
+
+
+def _program(description: str) -> str:
+    return rules_program(description)
+
+
+def _referred(description: str) -> set[str]:
+    return rules_referred(SCENE, description)
+
+
+def _cells(description: str) -> int:
+    result = run_trusted_program(_program(description), SCENE, description=description)
+    assert result.ok and result.scenario is not None, result.error
+    return result.scenario.n_referred_cells
+
+
+def test_a_road_user_ahead_or_behind_in_the_same_lane_is_one_and_the_same() -> None:
+    # the changer drives 20 m behind the ego in its lane until it moves over (t = 2-4 s); other
+    # vehicles are behind the ego all along, in other lanes, while the lead shares its lane
+    with_one = _cells("the ego vehicle with a vehicle behind it in the same lane")
+    without = _cells("the ego vehicle with no vehicle behind it in the same lane")
+    assert _cells("the ego vehicle with a vehicle behind it") == len(T_S)
+    assert 20 <= with_one <= 40
+    assert with_one + without == len(T_S)
+
+
+def test_a_clear_road_ahead_and_a_gap_under_a_distance() -> None:  # from the spent fresh22 run
+    negated = (
+        "scenario_not(has_objects_in_relative_direction)(subject, related_1, log_dir, direction='forward'"
+    )
+    assert negated + ")" in _program("the ego vehicle with a clear road ahead")
+    assert negated + ", within_distance=30)" in _program(
+        "cars with an empty road ahead (no vehicle in front within 30 m)"
+    )
+    assert _referred("the ego vehicle with a clear road ahead") == set()  # the lead is ahead
+    assert "near_objects(step_1, related_1, log_dir, distance_thresh=8)" in _program(
+        "vehicles following the ego with a gap of less than 8 m"
+    )
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # from the spent fresh24 run: specification lines ("key: value; key: value"), "where"
+        # clauses, "passed by X" without "being", adjectives before a bracketed list of subtypes
+        ("actor: vehicle; manoeuvre: right turn; location: on an intersection", {"turner"}),
+        ("actor: car; manoeuvre: lane change to the left", {"changer"}),
+        ("ego: following a car | speed: above 5 m/s", {"ego"}),
+        ("ego: following a car | speed: above 12 m/s", set()),  # the ego drives at 10 m/s
+        ("ego where speed is above 8 m/s and a vehicle is following it", {"ego"}),
+        ("cars where they are turning right", {"turner"}),
+        ("pedestrians where their speed exceeds 1 m/s", {"ped"}),
+        ("vehicles where a pedestrian is crossing in front of them", {"lead"}),
+        ("vehicles passed on their left by a moving vehicle", {"ego"}),
+    ],
+)
+def test_specification_lines_and_where_clauses_are_read(description: str, expected: set[str]) -> None:
+    assert _referred(description) == expected
+
+
+def test_adjectives_before_a_bracketed_list_of_subtypes_are_kept() -> None:
+    program = _program("parked trucks of any kind (truck, box truck or truck cab)")
+    assert "'TRUCK_CAB'" in program and "stationary(subject, log_dir)" in program
+    assert "within_distance=20" in _program("vehicles where no other vehicle is ahead within 20 m")
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # from the spent fresh25 run: a story in the past tense, the first person, drivers' idioms
+        ("a car that overtook us on the left", {"overtaker"}),
+        ("a car that passed us", {"overtaker"}),
+        ("we were tailing another car down the road", {"ego"}),
+        ("a car that hung a right in the middle of the intersection", {"turner"}),
+        ("a car that moved over into the lane on its left", {"changer"}),
+        ("vehicles that switched lanes to the left", {"changer"}),
+        ("a pedestrian who was looking straight at our car", {"pedA"}),
+        ("people walking over the zebra crossing", {"ped"}),
+        ("a car that stayed on our tail in our lane", {"changer"}),  # until it moves over
+        ("cars that cut across our direction of travel at right angles", {"turner"}),
+        ("vehicles that were not cars, like trucks and buses, out on the road", {"bus", "ego"}),
+        ("cars that were parked on the road", {"parked"}),
+    ],
+)
+def test_a_story_in_the_past_tense_and_the_first_person_is_read(description: str, expected: set[str]) -> None:
+    assert _referred(description) == expected
+
+
+def test_a_finished_stop_is_stopped_and_walking_past_is_walking_near() -> None:
+    assert "scenario_or([stationary(subject, log_dir), has_velocity(subject" in _program(
+        "buses that had come to a stop"
+    )
+    program = _program("a pedestrian strolling past a parked car")
+    assert "has_velocity(subject, log_dir, min_velocity=0.5)" in program
+    assert "related_1 = stationary(related_1, log_dir)" in program
+    assert "near_intersection(subject, log_dir)" in _program(
+        "a car speeding up as it left the intersection area"
+    )
+
+
+def test_ranges_counts_and_places_of_a_data_curators_wording() -> None:  # from the spent fresh26
+    assert _referred("people within 2 m of a pedestrian crossing") == {"ped"}
+    assert "at_pedestrian_crossing(subject, log_dir, within_distance=2)" in _program(
+        "people within 2 m of a pedestrian crossing"
+    )
+    assert "scenario_not(on_intersection)(subject, log_dir)" in _program(
+        "vehicles turning right somewhere other than on an intersection"
+    )
+    assert _referred("cars surrounded by at least 6 other vehicles within 20 m") == set()
+    assert "distance_thresh=20, min_objects=2" in _program(
+        "cars surrounded by at least 2 other vehicles within 20 m"
+    )
+    assert "direction='forward', lateral_thresh=1" in _program(
+        "vehicles with a vehicle ahead of them in roughly their own lane"
+    )
+    closing = "cars approaching the ego vehicle within 50 m, closing the gap at {} m/s or more"
+    assert _referred(closing.format(3)) == {"oncoming", "overtaker"}
+    assert _referred(closing.format(30)) == set()
+    assert "accelerating(subject, log_dir, min_accel=-3, max_accel=-1)" in _program(
+        "cars decelerating at between 1 and 3 m/s²"
+    )
+    assert "accelerating(subject, log_dir, min_accel=0.5, max_accel=2)" in _program(
+        "cars speeding up at between 0.5 and 2 m/s²"
+    )
+
+
+@pytest.mark.parametrize(
+    ("description", "expected"),
+    [
+        # from the spent fresh25 run: the first in line, a driver called "someone", hanging back
+        ("the car right in front of us", {"lead"}),
+        ("the nearest vehicle ahead of the ego vehicle", {"lead"}),
+        ("the vehicle immediately behind the ego vehicle", {"changer"}),  # 20 m behind in its lane
+        ("someone hanging back behind the ego vehicle in the same lane", {"changer"}),
+        ("vehicles that a pedestrian crossed in front of", {"lead"}),
+    ],
+)
+def test_the_first_in_line_and_a_driver_hanging_back(description: str, expected: set[str]) -> None:
+    assert _referred(description) == expected
+
+
+def test_a_road_user_crossing_behind_another_and_an_object_relative_clause() -> None:
+    behind = "being_crossed_by(subject, related_1, log_dir, direction='backward')"
+    assert behind in _program("a car that a pedestrian walked across the back of")
+    assert behind in _program("cars with a pedestrian walking across behind them")
+    assert behind in _program("cars being crossed from behind by a pedestrian")
+    reverse = "reverse_relationship(being_crossed_by)(related_1, subject, log_dir, direction='backward')"
+    assert reverse in _program("pedestrians crossing behind a bus")
+    # walking behind a bus is not crossing its rear: a direction relation
+    assert "being_crossed_by" not in _program("pedestrians walking behind a bus")
