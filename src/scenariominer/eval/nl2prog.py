@@ -133,6 +133,7 @@ SPLITS: tuple[str, ...] = (
     "fresh24",
     "fresh25",
     "fresh26",
+    "fresh28",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
