@@ -162,3 +162,50 @@ def test_a_road_user_crossing_behind_another_and_an_object_relative_clause() -> 
     assert reverse in _program("pedestrians crossing behind a bus")
     # walking behind a bus is not crossing its rear: a direction relation
     assert "being_crossed_by" not in _program("pedestrians walking behind a bus")
+
+
+@pytest.mark.parametrize(
+    ("note", "plain"),
+    [
+        # from the spent fresh28 run: a claims analyst's terse notes
+        ("peds facing ego, 20 m or less", "pedestrians facing the ego vehicle within 20 m"),
+        ("vehicle closing on a ped, under 15 m", "vehicle closing in on a pedestrian within 15 m"),
+        ("car w/ 3+ peds close by", "cars with at least 3 pedestrians nearby"),
+        (
+            "ego at a standstill, vehicle in front within 10 m",
+            "the ego vehicle stopped with a vehicle in front within 10 m",
+        ),
+        ("car pointed at a ped within 10 m; car moving", "cars moving and facing a pedestrian within 10 m"),
+        ("cones/barrels on the road", "cones or barrels on the road"),
+        ("third-party vehicles turning left (excl. ego)", "vehicles turning left other than the ego vehicle"),
+        (
+            "vehicle turning right w/ ped crossing its front",
+            "vehicles turning right with a pedestrian crossing in front of them",
+        ),
+        ("vehicle moving across to right-hand lane", "vehicles changing lanes to the right"),
+        (
+            "moving vehicle off-road but in drivable area (car park / driveway)",
+            "moving vehicles not on the road but in the drivable area",
+        ),
+        (
+            "car braking >1 m/s² with another car following",
+            "cars braking harder than 1 m/s² being followed by another car",
+        ),
+        ("box van stopped momentarily", "box trucks coming to a momentary stop"),
+    ],
+)
+def test_a_terse_note_is_read_as_its_plain_wording(note: str, plain: str) -> None:
+    assert _program(note) == _program(plain).replace(repr(plain), repr(note))
+
+
+def test_a_crossing_from_one_side_to_the_other_and_a_comma_after_a_list() -> None:
+    assert "in_direction='clockwise'" in _program("vehicle crossed left-to-right by ped")
+    assert "in_direction='counterclockwise'" in _program(
+        "cars being crossed from right to left by a pedestrian"
+    )
+    # a list of road users keeps its commas: not a note's "with" clause
+    assert _program("cars, trucks and buses turning left").count("get_objects_of_category") == 5
+    assert _referred("vehicles moving, pedestrian crossing in front of them") == {"lead"}
+    assert _referred("vehicles moving, pedestrian crossing in front of them") == _referred(
+        "vehicles moving with a pedestrian crossing in front of them"
+    )

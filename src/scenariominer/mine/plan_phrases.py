@@ -47,7 +47,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"articulated bus(?:es)?|bendy bus(?:es)?", ("ARTICULATED_BUS",)),
     (r"city bus(?:es)?", ("BUS",)),
     (r"bus(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
-    (r"box trucks?|delivery trucks?", ("BOX_TRUCK",)),
+    (r"box trucks?|box vans?|delivery trucks?|delivery vans?", ("BOX_TRUCK",)),
     (r"truck cabs?|semi[- ]trucks?|tractor units?|tractor cabs?", ("TRUCK_CAB",)),
     # "trucks" is AV2's TRUCK (box trucks and truck cabs are categories of their own; nine of ten
     # independent reference writers read it so); "trucks of any kind" is all three
@@ -447,6 +447,11 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?:with|having) {obj} (?:walking |running |cycling )?(?:crossing|across) in front of (?:them|it)",
         "being_crossed_by", direction="forward",
     ),
+    # ... from its left to its right: clockwise seen from above
+    Phrase(r"being crossed (?:in front )?from (?:its |their )?left to (?:its |their )?right by {obj}",
+           "being_crossed_by", "in_direction='clockwise'", "forward"),
+    Phrase(r"being crossed (?:in front )?from (?:its |their )?right to (?:its |their )?left by {obj}",
+           "being_crossed_by", "in_direction='counterclockwise'", "forward"),
     Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
     # ... behind it: the other road user crosses the line of its rear bumper
     Phrase(

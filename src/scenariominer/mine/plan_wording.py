@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from typing import Any
 
 from scenariominer.mine.plan_narrative import present_tense
-from scenariominer.mine.plan_phrases import CATEGORY_PHRASES, MODIFIERS, TO_MPS
+from scenariominer.mine.plan_notes import plain_notes
+from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
+from scenariominer.mine.plan_phrases import TO_MPS
 
 __all__ = [
     "CATEGORY_RE",
@@ -80,24 +81,6 @@ VERB_BLOCKERS_BEFORE = frozenset(
 VERB_BLOCKERS_AFTER = frozenset({"sign", "signs", "signal", "signals", "limit", "bump", "light", "lights"})
 #: Verbs that only count with their particle: "speed *up*", "slow *down*", "change *lane(s)*".
 VERB_PARTICLES = {"speeding": ("up",), "slowing": ("down",), "changing": ("lane", "lanes")}
-
-
-def _alternation(patterns: Any) -> str:
-    return "|".join(f"(?:{p})" for p in patterns)
-
-
-CATEGORY_RE = _alternation(p for p, _ in CATEGORY_PHRASES)
-MODIFIER_RE = _alternation(p for p, _, _ in MODIFIERS)
-#: Words before another road user that carry no condition ("a *lead* vehicle": the relation says it).
-DETERMINER = r"(?:(?:a|an|the|any|another|other|some|all|its|their|lead|leading|preceding)\s+)"
-NOUN = rf"(?:{CATEGORY_RE})(?:\s+(?:or|and)\s+(?:other\s+)?(?:{CATEGORY_RE})){{0,4}}"
-NOUN_PHRASE = re.compile(rf"{DETERMINER}*(?P<mods>(?:(?:{MODIFIER_RE})\s+)*)(?P<noun>{NOUN})")
-NP = rf"(?:(?:{DETERMINER}*)(?:(?:{MODIFIER_RE})\s+)*(?:{NOUN}))"
-
-
-SUBJECT = re.compile(
-    rf"^\s*(?:(?:all|the|a|an|any|some|every)\s+)*(?P<mods>(?:(?:{MODIFIER_RE})\s+)*)(?P<noun>{NOUN})(?![\w-])"
-)
 
 
 #: "find (all) (instances of)": words that ask for the result rather than describe it.
@@ -224,7 +207,7 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = present_tense(_spec_lines(" ".join(description.lower().split())))
+    text = present_tense(_spec_lines(plain_notes(" ".join(description.lower().split()))))
     # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
     text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
     text = " ".join(_listed_road_users(text).replace(",", " ").split()).rstrip(".!?")

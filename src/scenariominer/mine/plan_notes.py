@@ -1,0 +1,101 @@
+"""Terse notes put in the plain wording the phrase rules read.
+
+Claims handlers, test drivers and triage engineers write fragments: "vehicle turning right w/ ped
+crossing its front", "peds facing ego, 20 m or less", "car pointed at a ped within 10 m; car
+moving", "cones/barrels on the road", "car w/ 3+ peds close by". :func:`plain_notes` rewrites
+them before the rest of the normalisation (:mod:`scenariominer.mine.plan_wording`):
+abbreviations are spelt out, a slash between road users is "or", "N+" is "at least N", and the
+parts of a note joined by commas or semicolons become one sentence: a bare distance limits the
+relation before it, a part that names the subject again adds to it ("and moving"), and a part that
+names another road user is a "with" clause.
+"""
+
+from __future__ import annotations
+
+import re
+
+from scenariominer.mine.plan_nouns import CATEGORY_RE, NP, SUBJECT
+
+__all__ = ["plain_notes"]
+
+#: Shorthand and fragments, each with its plain wording, applied in order.
+_SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"\bw/o\b"), "without"),
+    (re.compile(r"\bw/(?=\s|[a-z])\s*"), "with "),
+    (re.compile(r"\b(?:excl\.?|excl(?:uding)?\.)(?=\s)"), "excluding"),
+    (re.compile(r"(?<![\w.])(\d+)\+(?=\s)"), r"at least \1"),
+    (re.compile(rf"(?<![\w/])({CATEGORY_RE}) ?/ ?(?=(?:{CATEGORY_RE})(?![\w/]))"), r"\1 or "),
+    (re.compile(r"\bthird[- ]party ((?:\w+ )?)(vehicles?|cars?|traffic)\b"),
+     r"\1\2 other than the ego vehicle"),
+    # places off the road given as examples: "(car park / driveway)"
+    (re.compile(r" ?\((?:(?:car parks?|parking(?: lots?)?|driveways?|forecourts?|garages?)"
+                r"\s*(?:/|,|or)?\s*)+\)"), ""),
+    # "crossing its front": in front of it; "its rear": behind it
+    (re.compile(r"\b(crossing|cutting across|passing|walking across) (?:its|their) (?:front|nose)\b"),
+     r"\1 in front of it"),
+    (re.compile(r"\b(crossing|cutting across|passing|walking across) (?:its|their) (?:rear|back|tail)\b"),
+     r"\1 behind it"),
+    (re.compile(r"\bcrossing (ahead of|just ahead of)\b"), "crossing in front of"),
+    (re.compile(r"\bclosing on\b"), "closing in on"),
+    (re.compile(r"\boff[- ]road\b"), "not on the road"),
+    # "crossed left-to-right by a pedestrian": being crossed from its left to its right
+    (re.compile(r"\b(?:being )?crossed (?:from )?(left|right)[- ]to[- ](left|right) by\b"),
+     r"being crossed from \1 to \2 by"),
+    # "moving across to right-hand lane": a lane change to that side
+    (re.compile(r"\b(?:moving|pulling|shifting|switching|drifting) (?:across |over )?(?:in)?to (?:the )?"
+                r"(left|right)(?:-hand| hand)? lane\b"), r"changing lanes to the \1"),
+    (re.compile(r"\bstopped (?:momentarily|briefly)\b"), "coming to a momentary stop"),
+    (re.compile(r"\bgoing straight \((?:no turns?|not turning)\)"), "going straight"),
+    # "with another car following": followed by it
+    (re.compile(rf"\bwith ((?:another|an?|other) {NP}) following(?: (?:it|them|behind))?(?=$|[,;])"),
+     r"being followed by \1"),
+)  # fmt: skip
+
+#: A part of a note that is only a distance: "20 m or less", "under 15 m", "within 5 m".
+_DISTANCE_PART = re.compile(
+    r"^(?:under|less than|below|within|at most|up to|max|<=?|≤)? ?(?P<d>\d+(?:\.\d+)?) ?(?:m|metres?|meters?)"
+    r"(?: or (?:less|closer|under)| max(?:imum)?| away)?$"
+)
+
+
+def plain_notes(text: str) -> str:
+    """``text`` (lower case, single spaces) with a note's shorthand and fragments spelt out.
+
+    "peds facing ego, 20 m or less" -> "peds facing ego within 20 m"; "ego at a standstill,
+    vehicle in front within 10 m" -> "ego at a standstill with a vehicle in front within 10 m";
+    "car pointed at a ped within 10 m; car moving" -> "car pointed at a ped within 10 m and
+    moving". A text with ``key: value`` parts (a specification) or brackets keeps its commas.
+    """
+    for pattern, replacement in _SHORTHAND:
+        text = pattern.sub(replacement, text)
+    if ":" in text or "(" in text:
+        return text
+    parts = re.split(r"\s*[,;]\s*", text)
+    subject = SUBJECT.match(parts[0])
+    # a list of road users ("cars, trucks and buses ...") starts with a bare noun phrase
+    if len(parts) < 2 or subject is None or not parts[0][subject.end() :].strip():
+        return text
+    joined = parts[0]
+    for part in parts[1:]:
+        joined += _joined_part(part, subject["noun"])
+    return joined
+
+
+def _joined_part(part: str, subject_noun: str) -> str:
+    """How one later part of a note joins the text before it (with its leading space)."""
+    distance = _DISTANCE_PART.match(part)
+    if distance is not None:
+        return f" within {distance['d']} m"
+    other = SUBJECT.match(part)
+    if other is None or not part[other.end() :].strip():
+        return f", {part}"  # no road user first, or only one: left as it was
+    rest = part[other.end() :].strip()
+    if _singular(other["noun"]) == _singular(subject_noun):
+        return f" and {rest}"
+    if re.match(r"(?:an?|the|another|some|any|at least \d+|\d+|no) ", part):
+        return f" with {part}"
+    return f" with {part}" if other["noun"].endswith("s") else f" with a {part}"
+
+
+def _singular(noun: str) -> str:
+    return noun[:-1] if noun.endswith("s") else noun
