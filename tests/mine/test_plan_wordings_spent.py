@@ -209,3 +209,18 @@ def test_a_crossing_from_one_side_to_the_other_and_a_comma_after_a_list() -> Non
     assert _referred("vehicles moving, pedestrian crossing in front of them") == _referred(
         "vehicles moving with a pedestrian crossing in front of them"
     )
+
+
+def test_a_count_of_road_users_is_a_condition_on_the_one_they_are_around() -> None:
+    # from the spent fresh28 run: "2+ vehicles ahead of ego within 30 m" is about the ego
+    counted = (
+        "has_objects_in_relative_direction(subject, related_1, log_dir, direction='forward',"
+        " within_distance=30, min_number=2)"
+    )
+    assert counted in _program("2+ vehicles ahead of ego within 30 m")
+    assert counted in _program("the ego vehicle with at least 2 vehicles in front of it within 30 m")
+    assert "distance_thresh=20, min_objects=2" in _program("at least 2 vehicles near the ego within 20 m")
+    # "with 2 vehicles ahead" counts them; "two cars ahead" is a place in the line
+    assert "line_1" not in _program("the ego with 2 vehicles ahead")
+    assert "line_1" in _program("vehicle two cars ahead")
+    assert _referred("the ego vehicle with at least 1 vehicle ahead of it within 30 m") == {"ego"}

@@ -51,6 +51,13 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
      r"being followed by \1"),
 )  # fmt: skip
 
+#: A count first: "at least 2 vehicles ahead of ego": a condition on the road user named second.
+_COUNT_FIRST = re.compile(
+    rf"^(?P<count>at least \d+) (?P<many>{NP}) (?P<where>ahead of|in front of|behind|to the left of"
+    rf"|to the right of|near|around|next to|close to) (?P<one>{NP})(?![\w-])(?P<rest>.*)$"
+)
+#: How the place reads after "with N X": "ahead of Y" -> "ahead of it".
+_COUNTED_PLACE = dict.fromkeys(("near", "around", "next to", "close to"), "nearby")
 #: A part of a note that is only a distance: "20 m or less", "under 15 m", "within 5 m".
 _DISTANCE_PART = re.compile(
     r"^(?:under|less than|below|within|at most|up to|max|<=?|≤)? ?(?P<d>\d+(?:\.\d+)?) ?(?:m|metres?|meters?)"
@@ -68,6 +75,13 @@ def plain_notes(text: str) -> str:
     """
     for pattern, replacement in _SHORTHAND:
         text = pattern.sub(replacement, text)
+    counted = _COUNT_FIRST.match(text)
+    if counted is not None:
+        where, rest = _COUNTED_PLACE.get(counted["where"], counted["where"] + " it"), counted["rest"]
+        within = re.match(r" within (\d+(?:\.\d+)? ?m)\b(.*)$", rest)
+        if where == "nearby" and within is not None:  # "near the ego within 20 m": within 20 m of it
+            where, rest = f"within {within[1]}", within[2]
+        text = f"{counted['one']} with {counted['count']} {counted['many']} {where}{rest}"
     if ":" in text or "(" in text:
         return text
     parts = re.split(r"\s*[,;]\s*", text)

@@ -228,8 +228,10 @@ EGO = "the ego vehicle"
 #: ``implied``: the road user of the last relation read (the ego when there is none)
 LAST = "<last>"
 
-_IN_LINE_AHEAD = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:ahead|in front|forward)"
-_IN_LINE_BEHIND = r"(?P<rank>\d+) (?:cars?|vehicles?) (?:behind|back)"
+#: (not after "with", "at least" ...: "with 2 vehicles ahead" counts them)
+_NOT_A_COUNT = r"(?<!with )(?<!having )(?<!has )(?<!have )(?<!least )(?<!than )(?<!most )"
+_IN_LINE_AHEAD = _NOT_A_COUNT + r"(?P<rank>\d+) (?:cars?|vehicles?) (?:ahead|in front|forward)"
+_IN_LINE_BEHIND = _NOT_A_COUNT + r"(?P<rank>\d+) (?:cars?|vehicles?) (?:behind|back)"
 
 #: Phrases after the subject, tried in this order; each match is consumed.
 PHRASES: tuple[Phrase, ...] = (
