@@ -228,6 +228,8 @@ EGO = "the ego vehicle"
 #: ``implied``: the road user of the last relation read (the ego when there is none)
 LAST = "<last>"
 
+#: "its", "their" or "the" before a side, or nothing.
+_ITS = r"(?:its |their |the )?"
 #: (not after "with", "at least" ...: "with 2 vehicles ahead" counts them)
 _NOT_A_COUNT = r"(?<!with )(?<!having )(?<!has )(?<!have )(?<!least )(?<!than )(?<!most )"
 _IN_LINE_AHEAD = _NOT_A_COUNT + r"(?P<rank>\d+) (?:cars?|vehicles?) (?:ahead|in front|forward)"
@@ -268,6 +270,12 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?:(?:travell?ing|driving|moving|coming) )?in (?:the )?oncoming (?:lanes?|traffic)",
         "heading_in_relative_direction_to", direction="opposite", implied=EGO,
+    ),
+    # a cut-in closer than D ahead of X's front bumper
+    Phrase(
+        r"(?:cutting (?:in )?(?:in front of|ahead of)|cutting off|cutting into the path of) {obj}"
+        r" within " + _DIST,
+        "being_crossed_by", "forward_thresh={dist}", "forward", reverse=True,
     ),
     # stated numbers first, so "within 5 m of X" is not read as a bare relation
     Phrase(
@@ -450,9 +458,9 @@ PHRASES: tuple[Phrase, ...] = (
         "being_crossed_by", direction="forward",
     ),
     # ... from its left to its right: clockwise seen from above
-    Phrase(r"being crossed (?:in front )?from (?:its |their )?left to (?:its |their )?right by {obj}",
+    Phrase(r"being crossed (?:in front )?from " + _ITS + r"left to " + _ITS + r"right by {obj}",
            "being_crossed_by", "in_direction='clockwise'", "forward"),
-    Phrase(r"being crossed (?:in front )?from (?:its |their )?right to (?:its |their )?left by {obj}",
+    Phrase(r"being crossed (?:in front )?from " + _ITS + r"right to " + _ITS + r"left by {obj}",
            "being_crossed_by", "in_direction='counterclockwise'", "forward"),
     Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
     # ... behind it: the other road user crosses the line of its rear bumper
@@ -511,7 +519,7 @@ PHRASES: tuple[Phrase, ...] = (
             "following"),
     Phrase(r"(?:following|tailgating|tailing|trailing|hanging back behind|lagging behind"
            r"|(?:following |driving |riding |travell?ing )?closely behind"
-            r"|driving behind) {obj}"
+            r"|(?:following |driving )?too close(?:ly)? behind|driving behind) {obj}"
             r"(?: too closely| closely)?", "following"),
     Phrase(r"being (?:followed|tailgated) by {obj}", "following", reverse=True),
     Phrase(r"(?:(?:in|sharing) (?:the )?same lane as|sharing (?:a |the )?lane with) {obj}", "in_same_lane"),
@@ -779,6 +787,10 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?:changing(?: lanes?)?|switching(?: lanes?)?|moving over|merging|moving) into the lane"
         r" (?:on |to )(?:their |its |the )(?P<dir>left|right)",
+        "changing_lanes", "direction='{dir}'",
+    ),
+    Phrase(
+        r"(?:making|performing|doing) a lane change (?:in)?to the (?P<dir>left|right)",
         "changing_lanes", "direction='{dir}'",
     ),
     Phrase(

@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 
+from scenariominer.mine.plan_learners import learner_wording
 from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
@@ -207,7 +208,7 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = present_tense(_spec_lines(plain_notes(" ".join(description.lower().split()))))
+    text = present_tense(_spec_lines(learner_wording(plain_notes(" ".join(description.lower().split())))))
     # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
     text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
     text = " ".join(_listed_road_users(text).replace(",", " ").split()).rstrip(".!?")
@@ -292,6 +293,36 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
             r"(?= (?:and|with|while|at|on|in)\b|$)"
         ),
         lambda m: "being crossed " + ("by " if "front" in m["side"] else "from behind by ") + m["np"],
+    ),
+    # the register of road rules: what an offence looks like in the logs
+    (
+        re.compile(
+            r"\b(?:blocking|obstructing)(?= (?:the |an? )?(?:intersection|junction|crosswalk|crossing"
+            r"|bike lane|bus lane|lane)\b)"
+        ),
+        "stopped on",
+    ),
+    (
+        re.compile(
+            r"\b(?:failing|failed|refusing|not stopping) to (?:yield|give way) to (?P<np>.+?)"
+            r"(?= (?:at|on|in|near|while|and)\b|$)"
+        ),
+        r"moving with \g<np> crossing in front of them",
+    ),
+    (
+        re.compile(
+            r"\b(?:(?:not|never) (?:yielding|giving way)|(?:does|do|did) not (?:yield|give way)) to"
+            r" (?P<np>.+?)(?= (?:at|on|in|near|while|and)\b|$)"
+        ),
+        r"moving with \g<np> crossing in front of them",
+    ),
+    (re.compile(r"\bencroaching (?:in)?(?:to|onto|on) "), "in "),
+    (
+        re.compile(
+            r"\bwith (?:a )?(?:less than|under|below) (\d+(?:\.\d+)? ?m) (?:of )?"
+            r"(?:gap|headway|clearance|spacing)\b"
+        ),
+        r"within \1",
     ),
     # "the ego vehicle's lane / path"
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
