@@ -43,3 +43,26 @@ def test_the_rewrites_keep_plain_english_and_nouns_as_they_are() -> None:
     ):
         assert learner_wording(text) == text
     assert rules_referred(street_scene(), "pedestrian goes over the street") == {"ped"}
+
+
+@pytest.mark.parametrize(
+    ("asked", "plain"),
+    [
+        # a planner's questions and a student's shorthand (our own descriptions)
+        (
+            "how do cyclists behave when they ride through an intersection?",
+            "cyclists riding on an intersection",
+        ),
+        ("where do buses stop close to a crosswalk?", "buses stopping within 5 m of a crosswalk"),
+        (
+            "do vehicles slow down as they approach pedestrians?",
+            "vehicles slowing down approaching pedestrians",
+        ),
+        ("I'd like to see every pedestrian who crosses the road", "pedestrians crossing the road"),
+        ("# of peds near ego > 3", "the ego vehicle with at least 4 pedestrians nearby"),
+        ("number of vehicles around the ego >= 2", "the ego vehicle with at least 2 vehicles nearby"),
+        ("peds w/in 5m of ego", "pedestrians within 5 m of the ego vehicle"),
+    ],
+)
+def test_questions_and_shorthand_build_the_program_of_their_plain_english(asked: str, plain: str) -> None:
+    assert rules_program(asked) == rules_program(plain)

@@ -20,6 +20,7 @@ __all__ = ["plain_notes"]
 
 #: Shorthand and fragments, each with its plain wording, applied in order.
 _SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"\bw/in\b"), "within"),
     (re.compile(r"\bw/o\b"), "without"),
     (re.compile(r"\bw/(?=\s|[a-z])\s*"), "with "),
     (re.compile(r"\b(?:excl\.?|excl(?:uding)?\.)(?=\s)"), "excluding"),
@@ -65,6 +66,13 @@ _DISTANCE_PART = re.compile(
 )
 
 
+#: "# of peds near ego > 3": a count of road users around another, as "ego with at least 4 peds nearby".
+_NUMBER_OF = re.compile(
+    rf"^(?:#|number|no\.|count) of (?P<many>{NP}) (?P<where>near|around|close to|next to) (?P<one>{NP})"
+    r" ?(?P<op>>=|≥|>|more than|over|above|at least) ?(?P<n>\d+)(?P<rest>.*)$"
+)
+
+
 def plain_notes(text: str) -> str:
     """``text`` (lower case, single spaces) with a note's shorthand and fragments spelt out.
 
@@ -75,6 +83,12 @@ def plain_notes(text: str) -> str:
     """
     for pattern, replacement in _SHORTHAND:
         text = pattern.sub(replacement, text)
+    number_of = _NUMBER_OF.match(text)
+    if number_of is not None:
+        least = int(number_of["n"]) + (0 if number_of["op"] in (">=", "≥", "at least") else 1)
+        text = (
+            f"at least {least} {number_of['many']} {number_of['where']} {number_of['one']}{number_of['rest']}"
+        )
     counted = _COUNT_FIRST.match(text)
     if counted is not None:
         where, rest = _COUNTED_PLACE.get(counted["where"], counted["where"] + " it"), counted["rest"]

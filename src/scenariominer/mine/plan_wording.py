@@ -87,10 +87,11 @@ VERB_PARTICLES = {"speeding": ("up",), "slowing": ("down",), "changing": ("lane"
 #: "find (all) (instances of)": words that ask for the result rather than describe it.
 _SEARCH_VERB = re.compile(
     r"^(?:please )?(?:(?:could|can|would|will) you (?:please )?)?"
-    r"(?:(?:i |we )?(?:need|want|would like|am looking for|'m looking for|are looking for)"
+    r"(?:(?:(?:i |we )?(?:need|want|would like|am looking for|are looking for)"
+    r"|i'd like|we'd like|i'm looking for|we're looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
     r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any"
-    r"|how often (?:do|does|is|are)(?: there)?|when (?:do|does|is|are)(?: there)?"
+    r"|how often (?:do|does|is|are)(?: there)?|(?:when|where) (?:do|does|did|is|are)(?: there)?"
     r"|list every (?:time|moment|instance|case)(?: (?:that|when|where))?)"
     r"(?: (?:all|every|any|the|an?))?(?: (?:instances?|cases?|examples?|occurrences?|situations?"
     r"|scenarios?|scenes?|frames?|moments?|events?|clips?|times?)"
@@ -323,6 +324,22 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
             r"(?:gap|headway|clearance|spacing)\b"
         ),
         r"within \1",
+    ),
+    # a question about behaviour: "how do cyclists behave when they ride through ...": the behaviour
+    (
+        re.compile(
+            r"^(?:how|in what way) (?:do|does|did) (?P<who>.+?) (?:behave|act|react|move|drive)"
+            r"(?: when| while| as| if)? (?:they|it|he|she) "
+        ),
+        r"\g<who> ",
+    ),
+    (re.compile(rf"^(?:do|does|did) (?=(?:the |any |all )?{NP} )"), ""),
+    # "slowing down as they approach pedestrians": while approaching them
+    (
+        re.compile(
+            r"\b(?:as|while|when) (?:they|it) (?=approach|near|pass|enter|leave|cross|turn|drive|ride)"
+        ),
+        "",
     ),
     # "the ego vehicle's lane / path"
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
