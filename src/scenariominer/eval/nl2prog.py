@@ -133,6 +133,7 @@ SPLITS: tuple[str, ...] = (
     "fresh24",
     "fresh25",
     "fresh26",
+    "fresh27",
     "fresh28",
 )
 
