@@ -135,6 +135,9 @@ SPLITS: tuple[str, ...] = (
     "fresh26",
     "fresh27",
     "fresh28",
+    "fresh29",
+    "fresh30",
+    "fresh31",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
