@@ -138,6 +138,7 @@ SPLITS: tuple[str, ...] = (
     "fresh29",
     "fresh30",
     "fresh31",
+    "fresh32",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
