@@ -224,3 +224,61 @@ def test_a_count_of_road_users_is_a_condition_on_the_one_they_are_around() -> No
     assert "line_1" not in _program("the ego with 2 vehicles ahead")
     assert "line_1" in _program("vehicle two cars ahead")
     assert _referred("the ego vehicle with at least 1 vehicle ahead of it within 30 m") == {"ego"}
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh27, fresh29, fresh30 and fresh31 runs
+        ("moving vehicles off the road (not on any mapped lane)", "moving vehicles not on the road"),
+        ("moving vehicles that are off the mapped road lanes", "moving vehicles not on the road"),
+        (
+            "vehicles driving through a car park rather than on the road",
+            "vehicles in a parking lot and not on the road",
+        ),
+        ("cars with >=3 peds within 10 m", "cars with at least 3 pedestrians within 10 m"),
+        ("host vehicle speeding up", "the ego vehicle speeding up"),
+        ("veh lane change to the right", "vehicles changing lanes to the right"),
+        ("ego car doing a turn to left", "the ego vehicle turning left"),
+        (
+            "pedestrians in front of the ego car, maximal 15 meters away",
+            "pedestrians within 15 m in front of the ego vehicle",
+        ),
+        ("construction cones in near of the intersection", "construction cones near an intersection"),
+        (
+            "pedestrians who are looking in direction to the ego vehicle",
+            "pedestrians looking toward the ego vehicle",
+        ),
+        ("cars which accelerate but are still slower as 5 m/s", "cars accelerating and slower than 5 m/s"),
+        ("ego car standing at the zebra crossing", "the ego vehicle stopped at a crosswalk"),
+        (
+            "vehicles which point to a pedestrian at less than 10 meter",
+            "vehicles facing a pedestrian within 10 m",
+        ),
+        ("vehicles stopped on top of a pedestrian crossing, blocking it", "vehicles stopped on a crosswalk"),
+        (
+            "the ego vehicle sharing its lane with a parked vehicle",
+            "the ego vehicle in the same lane as a parked vehicle",
+        ),
+        (
+            "vehicles changing lanes near an intersection, which is where weaving is most risky",
+            "vehicles changing lanes near an intersection",
+        ),
+        ("does the ego vehicle make any right turns?", "the ego vehicle turning right"),
+        ("vehicles following behind a bus in the same lane", "vehicles following a bus"),
+        ("which vehicles pass through the middle of an intersection?", "vehicles on an intersection"),
+    ],
+)
+def test_wordings_of_the_session_20_splits_build_the_program_of_their_plain_english(
+    written: str, plain: str
+) -> None:
+    assert _program(written) == _program(plain)
+
+
+def test_a_while_clause_naming_another_road_user_is_a_with_clause() -> None:
+    from scenariominer.mine.plan_wording import normalised_text
+
+    assert normalised_text("the ego vehicle turning left while an oncoming vehicle is within 30 metres") == (
+        normalised_text("the ego vehicle turning left with an oncoming vehicle within 30 metres")
+    )
+    assert "not turning" in normalised_text("vehicles going straight across an intersection without turning")

@@ -32,7 +32,22 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
                 r" (?:the |a )?(street|road)\b"), r"crossing the \1"),
     # "the car is standing at the crossing": a vehicle that stands is stopped
     (re.compile(r"\b((?:cars?|vehicles?|trucks?|buses|bus|ego(?: vehicle| car)?)"
-                r" (?:(?:which|that) )?(?:is|are)) standing\b(?! still)"), r"\1 stopped"),
+                r"(?: (?:which|that))?(?: (?:is|are))?) standing\b(?! still)"), r"\1 stopped"),
+    # "in the near", "in near of the intersection", "inside 5 meters", "at less than 10 m"
+    (re.compile(r"\bin (?:the )?near of\b"), "near"),
+    (re.compile(r"\bin the near\b"), "nearby"),
+    (re.compile(r"\b(?:inside|at less than|in less than) (?=\d)"), "within "),
+    # "looking in direction to the ego", "point to a pedestrian", "coming to them"
+    (re.compile(r"\bin (?:the )?direction (?:to|of) (?=(?:the|an?|its|their) )"), "toward "),
+    (re.compile(r"\b(?:which|that) (?:points?|is pointing|are pointing) (?:to|at)\b"), "facing"),
+    (re.compile(r"\b(coming|moving|driving) (?:directly |straight )?(?:to|onto) (?=(?:them|it|the) )"
+                r"(?!the (?:\w+ )?(?:stop|halt|standstill)\b)"),
+     r"\1 toward "),
+    # "slower as 5 m/s": than; "which are no bus": other than buses
+    (re.compile(r"\b(slower|faster|more|less|higher|lower|closer|further|farther) as\b"), r"\1 than"),
+    (re.compile(r"\b(?:which|that) (?:are|is) no (\w+)"), r"other than \1"),
+    (re.compile(r"\boutside from\b"), "outside"),
+    (re.compile(r"\bparking (?:place|area)s?\b"), "parking lot"),
     # "the car is parking on the road": parked (a state, not a manoeuvre)
     (re.compile(r"\b(is|are|was|were) parking\b(?! (?:lot|space|area|garage|bay))"), r"\1 parked"),
     # literal place words: "bicycle way", "cycle path"; "the crossing" as a noun

@@ -31,7 +31,7 @@ __all__ = [
 CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:the )?ego(?: vehicle| car)?|(?:the )?self[- ]driving (?:car|vehicle)", ("EGO_VEHICLE",)),
     (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
-    (r"(?:the )?(?:av|autonomous (?:car|vehicle)|test vehicle)", ("EGO_VEHICLE",)),
+    (r"(?:the )?(?:av|autonomous (?:car|vehicle)|test vehicle|host (?:car|vehicle))", ("EGO_VEHICLE",)),
     (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
     (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
     (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
@@ -513,11 +513,11 @@ PHRASES: tuple[Phrase, ...] = (
             "in_direction='counterclockwise', forward_thresh=4", "right", implied="vehicles"),
     Phrase(r"(?:being |getting )(?:overtaken|passed)(?: (?:on|from) (?:the )?left)?", "being_crossed_by",
             "in_direction='clockwise', forward_thresh=4", "left", implied="vehicles"),
-    Phrase(r"(?:following|tailgating|tailing|trailing|hanging back behind|lagging behind"
+    Phrase(r"(?:following|tailgating|tailing|trailing|hanging back behind|lagging behind|following behind"
            r"|(?:driving |travell?ing )?closely behind) {obj}"
             r" in (?:the )?same lane",
             "following"),
-    Phrase(r"(?:following|tailgating|tailing|trailing|hanging back behind|lagging behind"
+    Phrase(r"(?:following|tailgating|tailing|trailing|hanging back behind|lagging behind|following behind"
            r"|(?:following |driving |riding |travell?ing )?closely behind"
             r"|(?:following |driving )?too close(?:ly)? behind|driving behind) {obj}"
             r"(?: too closely| closely)?", "following"),

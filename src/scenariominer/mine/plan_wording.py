@@ -226,8 +226,10 @@ def normalised_text(description: str) -> str:
     # "with a clear road ahead (no vehicle within 30 m in front)": the definition in brackets
     text = re.sub(rf"\bwith {_CLEAR_ROAD} \((no [^()]*)\)", r"with \1", text)
     text = " ".join(text.replace("(", " ").replace(")", " ").split())
-    text = re.sub(r"\s*>=?\s*", " more than ", text)
-    text = re.sub(r"\s*<=?\s*", " less than ", text).strip()
+    text = re.sub(r"\s*(?:>=|≥)\s*", " at least ", text)
+    text = re.sub(r"\s*(?:<=|≤)\s*", " at most ", text)
+    text = re.sub(r"\s*>\s*", " more than ", text)
+    text = re.sub(r"\s*<\s*", " less than ", text).strip()
     # units in words: "metres a second", "metre per second squared", "miles an hour"
     text = re.sub(r"\b(?:metres?|meters?) (?:a|per) second (?:squared|per second)\b", "m/s^2", text)
     text = re.sub(r"\b(?:metres?|meters?) (?:a|per) second\b", "m/s", text)
@@ -341,6 +343,44 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         "",
     ),
+    # off the road: "off the mapped road lanes", "outside of the road", "(not on any mapped lane)"
+    (re.compile(r"\bnot on any mapped lanes?\b"), ""),
+    (
+        re.compile(
+            r"\b(?:off|outside(?: of)?) (?:the |any |every )?(?:mapped )?(?:road(?:way)?|street)?"
+            r"(?: ?lanes?)?(?<=road|reet|lane|anes|dway)\b"
+        ),
+        "not on the road",
+    ),
+    (re.compile(r",? rather than on the road\b"), " and not on the road"),
+    (re.compile(r"\bcar parks?\b"), "parking lot"),
+    # "veh lane change to the right": a lane change named by its noun
+    (
+        re.compile(r"(?<!\ba )(?<!\bthe )(?<!\bany )\blane[- ]changes? (?:in)?to the (left|right)\b"),
+        r"changing lanes to the \1",
+    ),
+    (re.compile(r"\b(?:doing|making|taking|performing) an? turn to the (left|right)\b"), r"turning \1"),
+    # a commentary after the description: ", which is where weaving is most risky", ", blocking it"
+    (
+        re.compile(r",? which (?:is|are) (?:where|when|why|how|often|usually|especially|particularly)\b.*$"),
+        "",
+    ),
+    (re.compile(r",? (?:blocking|obstructing) (?:it|them)$"), ""),
+    (re.compile(r",? instead of (?:staying|being|keeping|remaining) .*$"), ""),
+    (re.compile(r"\bon top of\b"), "on"),
+    (re.compile(r",? (?:say|like|for instance) (?:in|on|at|through) .*$"), ""),
+    (re.compile(r"\bmaking any (left|right) turns?\b"), r"making a \1 turn"),
+    (re.compile(r"\bget (overtaken|passed|cut off|followed|crossed)\b"), r"getting \1"),
+    (re.compile(r"\bpassing through (?:the middle of )?(an?|the) (intersection|junction)\b"), r"on \1 \2"),
+    (re.compile(r"\bthrough (an?|the) (parking lot|driveway)\b"), r"in \1 \2"),
+    # "while an oncoming vehicle is within 30 m": with one there
+    (
+        re.compile(r"\bwhile (an?|another|the) (.+?) (?:is|are) (?=within|nearby|near|ahead|behind|close)"),
+        r"with \1 \2 ",
+    ),
+    (re.compile(r"\bsharing (?:its|their|our|his|her) lane with\b"), "sharing a lane with"),
+    (re.compile(r"\balongside (?=on (?:its|their|the) (?:left|right))"), ""),
+    (re.compile(r"\bwithout turning\b"), "not turning"),
     # "the ego vehicle's lane / path"
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
@@ -353,7 +393,9 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (re.compile(r"\b(within \d+(?:\.\d+)? ?(?:m|meters?|metres?)) of (?:them|it|him|her)\b"), r"\1"),
     # "max 5 meter away": within 5 m
     (
-        re.compile(r"\b(?:max(?:imum)?|at most|up to) (\d+(?:\.\d+)?) ?(m|meters?|metres?)(?: away)?\b"),
+        re.compile(
+            r"\b(?:max(?:imum|imal|imally)?|at most|up to) (\d+(?:\.\d+)?) ?(m|meters?|metres?)(?: away)?\b"
+        ),
         r"within \1 \2",
     ),
     # articles left out: "on left of ego", "inside drivable area", "same lane with a bus"
