@@ -21,6 +21,9 @@ from scenariominer.data.adapters.av2.map import (
 )
 from scenariominer.data.log import Log, build_log
 from scenariominer.mine.context import LogContext
+from scenariominer.mine.plan_program import compile_plan
+from scenariominer.mine.plan_reader import read_plan
+from scenariominer.mine.sandbox import run_trusted_program
 
 DT_S = 0.1
 T_S = np.round(np.arange(61) * DT_S, 6)  # 0.0 .. 6.0 s
@@ -203,9 +206,6 @@ def t_index(t_s: float) -> int:
 
 def rules_program(description: str) -> str:
     """The program the phrase rules build for ``description`` (asserts that they read it in full)."""
-    from scenariominer.mine.plan_program import compile_plan
-    from scenariominer.mine.plan_reader import read_plan
-
     plan = read_plan(description)
     assert plan is not None, f"the rules should read {description!r}"
     assert plan["read_by"] == "rules"
@@ -214,8 +214,6 @@ def rules_program(description: str) -> str:
 
 def rules_referred(ctx: LogContext, description: str) -> set[str]:
     """The track ids that the rules' program for ``description`` refers to in ``ctx``."""
-    from scenariominer.mine.sandbox import run_trusted_program
-
     result = run_trusted_program(rules_program(description), ctx, description=description)
     assert result.ok, result.error
     assert result.scenario is not None

@@ -307,15 +307,9 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     ),
     (
         re.compile(
-            r"\b(?:failing|failed|refusing|not stopping) to (?:yield|give way) to (?P<np>.+?)"
+            r"\b(?:(?:failing|failed|refusing|not stopping) to (?:yield|give way)|(?:not|never) (?:yielding"
+            r"|giving way)|(?:does|do|did) not (?:yield|give way)) to (?P<np>.+?)"
             r"(?= (?:at|on|in|near|while|and)\b|$)"
-        ),
-        r"moving with \g<np> crossing in front of them",
-    ),
-    (
-        re.compile(
-            r"\b(?:(?:not|never) (?:yielding|giving way)|(?:does|do|did) not (?:yield|give way)) to"
-            r" (?P<np>.+?)(?= (?:at|on|in|near|while|and)\b|$)"
         ),
         r"moving with \g<np> crossing in front of them",
     ),
