@@ -715,7 +715,7 @@ def test_the_loop_mines_a_partly_read_description_without_any_model_call() -> No
 @pytest.mark.parametrize(
     "description",
     [
-        "pedestrian on road not facing traffic",  # "not" left out would read "facing traffic"
+        "pedestrians on the road not walking across in front of a car",  # a relation "not" cannot negate
         "cyclists not wearing helmets",
         "ego vehicle following a vehicle being overtaken on the right",  # the overtaking is the other's
     ],

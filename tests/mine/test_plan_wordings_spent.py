@@ -282,3 +282,123 @@ def test_a_while_clause_naming_another_road_user_is_a_with_clause() -> None:
         normalised_text("the ego vehicle turning left with an oncoming vehicle within 30 metres")
     )
     assert "not turning" in normalised_text("vehicles going straight across an intersection without turning")
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh27-fresh32 runs (read in session 21)
+        (
+            "vehicles going straight across an intersection without turning",
+            "vehicles going straight on an intersection",
+        ),
+        ("vehicles going straight on an intersection", "vehicles going straight and on an intersection"),
+        (
+            "swerving vehicles, |lateral accel| > 3 m/s^2",
+            "vehicles with a lateral acceleration above 3 m/s^2",
+        ),
+        ("swerving vehicles", "vehicles swerving"),
+        (
+            "which vehicles swing to the left with a sideways acceleration of more than 2 m/s²?",
+            "vehicles with a leftward lateral acceleration of more than 2 m/s^2",
+        ),
+        (
+            "vehicles on the other side of road compared with the ego",
+            "vehicles on the other side of the road from the ego",
+        ),
+        (
+            "pedestrians that the ego vehicle is driving toward, within 20 metres",
+            "pedestrians with the ego vehicle heading toward them within 20 m",
+        ),
+        (
+            "groups of pedestrians, at least 2 other pedestrians within 3 meter",
+            "pedestrians with at least 2 other pedestrians within 3 m",
+        ),
+        (
+            "a vehicle following another vehicle in its lane with less than 10 m to the one ahead",
+            "a vehicle following another vehicle closer than 10 m",
+        ),
+        (
+            "any object in ego's path, 5 m ahead, one-lane corridor",
+            "objects in the path of the ego vehicle within 5 m",
+        ),
+        (
+            "vehicles having three or more pedestrians in the near, inside 5 meters",
+            "vehicles with at least 3 pedestrians within 5 m",
+        ),
+        ("vehicles braking as they approach a pedestrian crossing", "vehicles braking near a crosswalk"),
+        ("vehicle occupying a bus lane", "vehicles in a bus lane"),
+        (
+            "ego vehicle with two or more vehicles ahead in its lane corridor within 30 m",
+            "ego vehicle with at least 2 vehicles directly ahead within 30 m",
+        ),
+        (
+            "ego vehicle at a standstill with a stopped lead vehicle in its lane less than 10 m ahead",
+            "ego vehicle at a standstill with a stopped vehicle directly ahead within 10 m",
+        ),
+        (
+            "moving vehicles with a clear lane ahead, meaning no other vehicle in front of them within 30"
+            " metres inside about one lane's width",
+            "moving vehicles with no other vehicle directly in front of them within 30 m",
+        ),
+        (
+            "cars in ego's lane and in front of it, <= 40 m",
+            "cars in the same lane as the ego vehicle and in front of the ego vehicle within 40 m",
+        ),
+        (
+            "bollards that a moving vehicle passes within 2 metres of",
+            "bollards with a moving vehicle within 2 m",
+        ),
+        ("vehicles the ego overtakes on their left side", "vehicles being overtaken on the left by the ego"),
+        (
+            "moving vehicle in a parking lot or driveway (drivable area but not a road)",
+            "moving vehicles in a parking lot or driveway",
+        ),
+        (
+            "regular vehicles the ego heading points at, within 10 m",
+            "regular vehicles with the ego vehicle facing toward them within 10 m",
+        ),
+        (
+            "ped in the drivable area near a veh that is moving toward it",
+            "pedestrians in the drivable area near a vehicle with a vehicle heading toward them",
+        ),
+        (
+            "ped crossing in front of a car (within 10 m of its bumper)",
+            "pedestrians crossing in front of a car within 10 m",
+        ),
+        (
+            "vehicles that have another vehicle ahead of them within 30 feet, in roughly the same lane width",
+            "vehicles with another vehicle directly ahead of them within 9.144 m",
+        ),
+    ],
+)
+def test_wordings_of_the_session_21_rules_build_the_program_of_their_plain_english(
+    written: str, plain: str
+) -> None:
+    assert _program(written) == _program(plain)
+
+
+def test_another_road_users_oncoming_is_relative_to_the_subject() -> None:
+    program = _program("the ego vehicle turning left while an oncoming vehicle is within 30 metres")
+    assert "heading_in_relative_direction_to(related_1, subject, log_dir, direction='opposite')" in program
+    assert "near_objects(step_1, related_1, log_dir, distance_thresh=30)" in program
+    # the lead is 15 m ahead of the ego all along; only the westbound cars come toward it, within
+    # 20 m only for a while (the oncoming one around t = 4.5 s, the parked one around t = 3 s)
+    assert _cells("the ego vehicle with a vehicle within 20 m") == len(T_S)
+    assert 0 < _cells("the ego vehicle with an oncoming vehicle within 20 m") < len(T_S)
+
+
+def test_not_before_a_relation_negates_it() -> None:
+    program = _program("moving cars that aren't following any vehicle")
+    assert "scenario_not(following)(step_1, related_1, log_dir)" in program
+    following = _cells("vehicles following a vehicle")
+    assert following > 0
+    assert following + _cells("vehicles not following a vehicle") == _cells("vehicles")
+
+
+def test_a_crossing_within_a_distance_limits_how_far_ahead_of_the_bumper() -> None:
+    # the pedestrian crosses 2.75 m ahead of the lead's front bumper, 17.75 m ahead of the ego's
+    assert "forward_thresh=10" in _program("pedestrians crossing in front of the ego vehicle within 10 m")
+    assert _referred("pedestrians crossing in front of the ego vehicle within 10 m") == set()
+    assert _referred("pedestrians crossing in front of the ego vehicle within 20 m") == {"ped"}
+    assert _referred("pedestrians crossing in front of a car within 5 m") == {"ped"}

@@ -31,6 +31,10 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
     # places off the road given as examples: "(car park / driveway)"
     (re.compile(r" ?\((?:(?:car parks?|parking(?: lots?)?|driveways?|forecourts?|garages?)"
                 r"\s*(?:/|,|or)?\s*)+\)"), ""),
+    # "(drivable area but not a road)" after a parking lot: what a parking lot is
+    (re.compile(r" ?\((?:in |on )?(?:the |a )?drivable (?:area|surface),? (?:but )?not (?:on )?"
+                r"(?:a |the )?road\)"),
+     ""),
     # "crossing its front": in front of it; "its rear": behind it
     (re.compile(r"\b(crossing|cutting across|passing|walking across) (?:its|their) (?:front|nose)\b"),
      r"\1 in front of it"),
@@ -47,6 +51,15 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
                 r"(left|right)(?:-hand| hand)? lane\b"), r"changing lanes to the \1"),
     (re.compile(r"\bstopped (?:momentarily|briefly)\b"), "coming to a momentary stop"),
     (re.compile(r"\bgoing straight \((?:no turns?|not turning)\)"), "going straight"),
+    # "groups of pedestrians, at least 2 other pedestrians within 3 m": those with that many nearby
+    (re.compile(rf"^(?:groups?|clusters?|crowds?|bunches?) of ({CATEGORY_RE})(?:,| with| having)? "
+                r"(?=at least \d|\d+ or more|more than \d)"), r"\1 with "),
+    # "with less than 10 m to the one ahead": closer than that to the road user named before
+    (re.compile(r"\bwith (?:less than|under|below) (\d+(?:\.\d+)? ?(?:m|metres?|meters?)) (?:to|from|behind)"
+                r" the (?:one|vehicle|car) (?:ahead|in front)(?: of (?:it|them))?\b"), r"closer than \1"),
+    # "|lateral accel| > 3 m/s^2": the size of a sideways acceleration, either way
+    (re.compile(r"\|\s*lat(?:eral|\.)? ?acc(?:el(?:eration)?)?\.?\s*\|\s*(?:>=?|≥|over|above|more than)\s*"
+                r"(?=\d)"), "with a lateral acceleration above "),
     # "with another car following": followed by it
     (re.compile(rf"\bwith ((?:another|an?|other) {NP}) following(?: (?:it|them|behind))?(?=$|[,;])"),
      r"being followed by \1"),
@@ -62,8 +75,10 @@ _COUNTED_PLACE = dict.fromkeys(("near", "around", "next to", "close to"), "nearb
 #: A part of a note that is only a distance: "20 m or less", "under 15 m", "within 5 m".
 _DISTANCE_PART = re.compile(
     r"^(?:under|less than|below|within|at most|up to|max|<=?|≤)? ?(?P<d>\d+(?:\.\d+)?) ?(?:m|metres?|meters?)"
-    r"(?: or (?:less|closer|under)| max(?:imum)?| away)?$"
+    r"(?: or (?:less|closer|under)| max(?:imum)?| away| ahead| in front)?$"
 )
+#: A part of a note that adds nothing to a path ahead: "one-lane corridor" (the path is a lane wide).
+_LANE_CORRIDOR = re.compile(r"^(?:an? )?(?:one|1|single)[- ]lane(?:[- ]wide)? (?:corridor|width)$")
 
 
 #: "# of peds near ego > 3": a count of road users around another, as "ego with at least 4 peds nearby".
@@ -111,6 +126,8 @@ def plain_notes(text: str) -> str:
 
 def _joined_part(part: str, subject_noun: str) -> str:
     """How one later part of a note joins the text before it (with its leading space)."""
+    if _LANE_CORRIDOR.match(part):
+        return ""
     distance = _DISTANCE_PART.match(part)
     if distance is not None:
         return f" within {distance['d']} m"

@@ -123,6 +123,8 @@ MODIFIERS: tuple[tuple[str, str, str | None], ...] = (
     (r"accelerating", "accelerating", None),
     (r"hard[- ]braking|heavily braking|emergency[- ]braking", *HARD_BRAKING),
     (r"braking|decelerating", "accelerating", "min_accel=-inf, max_accel=-1.0"),
+    # another road user's "oncoming": travelling against the subject (never the subject's own)
+    (r"oncoming|on-coming", "oncoming", None),
 )
 
 TO_MPS = {
@@ -205,7 +207,8 @@ _SWERVING = r"(?:swerving|veering|weaving)(?: (?:hard|sharply|suddenly|abruptly|
 _TOWARD_SIDE = r"(?:to(?:ward)? (?:the |its |their )?)?"
 _NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
 _IN_LANE = (
-    r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking)) (?:a |the )?"
+    r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking|occupying))"
+    r" (?:a |the )?"
 )
 _ON_X = "on_intersection"
 _SPEEDING_UP = ("accelerating", None)
@@ -258,7 +261,7 @@ PHRASES: tuple[Phrase, ...] = (
     # "going straight (ahead)": not turning (before the bare "ahead", a relation to the ego)
     Phrase(
         r"(?:going|driving|continuing|heading|travell?ing|moving|proceeding|riding) straight"
-        r"(?: ahead| on)?(?! (?:at|towards?|for) )",
+        r"(?: ahead| on(?! (?:an? |the )?(?:intersection|junction)))?(?! (?:at|towards?|for) )",
         "going straight",
     ),
     # a direction of travel with no one named: the ego's ("vehicles in the opposite direction")
@@ -275,6 +278,12 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?:cutting (?:in )?(?:in front of|ahead of)|cutting off|cutting into the path of) {obj}"
         r" within " + _DIST,
+        "being_crossed_by", "forward_thresh={dist}", "forward", reverse=True,
+    ),
+    # a crossing closer than D ahead of X's front bumper
+    Phrase(
+        r"(?:crossing|walking across|running across|stepping|darting|dashing)(?: the road| the street)?"
+        r" in front of {obj} within " + _DIST,
         "being_crossed_by", "forward_thresh={dist}", "forward", reverse=True,
     ),
     # stated numbers first, so "within 5 m of X" is not read as a bare relation
@@ -480,8 +489,24 @@ PHRASES: tuple[Phrase, ...] = (
     # "with a vehicle heading toward them": the other road user moves toward the subject
     Phrase(
         _HAVE + r" {obj} (?:heading|moving|driving|coming|going|walking|riding) (?:straight |directly )?"
+        r"(?:towards?|at) (?:them|it) within " + _DIST,
+        "heading_toward", "max_distance={dist}", reverse=True,
+    ),
+    Phrase(
+        _HAVE + r" {obj} (?:heading|moving|driving|coming|going|walking|riding) (?:straight |directly )?"
         r"(?:towards?|at) (?:them|it)",
         "heading_toward", reverse=True,
+    ),
+    # "with the ego vehicle facing them": the other road user faces the subject
+    Phrase(
+        _HAVE + r" {obj} (?:facing|pointing|pointed|looking|aimed|aiming) (?:straight |directly |right )?"
+        r"(?:towards?|at)? ?(?:them|it) within " + _DIST,
+        "facing_toward", "max_distance={dist}", reverse=True,
+    ),
+    Phrase(
+        _HAVE + r" {obj} (?:facing|pointing|pointed|looking|aimed|aiming) (?:straight |directly |right )?"
+        r"(?:towards?|at)? ?(?:them|it)",
+        "facing_toward", reverse=True,
     ),
     # a cut-in: the other road user crosses the line straight ahead of X's front bumper
     Phrase(
@@ -639,6 +664,8 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:pushed|pulled|walked|carried) by {obj}", "near_objects", "distance_thresh=1"),
     Phrase(r"(?:with|having) " + _QUANTITY + r"nearby {obj}", "near_objects", "distance_thresh=10"),
     # in X's path: ahead of X, within its width (1 m either side of its centre line)
+    Phrase(r"in (?:the )?path of {obj} within " + _DIST, "get_objects_in_relative_direction",
+            "within_distance={dist}, lateral_thresh=1", "forward"),
     Phrase(r"in (?:the )?path of {obj}", "get_objects_in_relative_direction", "lateral_thresh=1", "forward"),
     Phrase(r"(?:with|having) " + _QUANTITY + r"{obj} (?:nearby|close by|around)", "near_objects",
             "distance_thresh=10"),
@@ -670,7 +697,7 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X
     ),
-    Phrase(r"(?:in|on|inside|within|through|crossing|in the middle of) " + _INTERSECTION, _ON_X),
+    Phrase(r"(?:in|on|inside|within|through|crossing|across|over|in the middle of) " + _INTERSECTION, _ON_X),
     # "at an intersection": on it or just before it (stopped at the stop line, turning there)
     Phrase(r"at " + _INTERSECTION, "near_intersection"),
     Phrase(_NEAR + " " + _CROSSWALK + " within " + _DIST, "at_pedestrian_crossing", "within_distance={dist}"),

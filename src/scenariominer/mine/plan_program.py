@@ -46,7 +46,7 @@ from scenariominer.mine.plan_reader import one_or_many, subject_categories
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
 
 #: Version of the rules below; part of the program-cache key when they are used.
-PLAN_PROGRAM_VERSION = "plan-program/11"
+PLAN_PROGRAM_VERSION = "plan-program/12"
 
 _EGO_WORDS = re.compile(r"\b(ego|self[- ]driving|our (car|vehicle)|the av)\b", re.IGNORECASE)
 _OTHER_WORDS = re.compile(r"\b(another|other|others|each other|one another)\b", re.IGNORECASE)
@@ -85,6 +85,8 @@ COMPOSITE_CONDITIONS: dict[str, str] = {
     "has_velocity({t}, log_dir, min_velocity=0, max_velocity=0.5)])",
     "lateral_acceleration_either_way": "scenario_or([has_lateral_acceleration({t}, log_dir, "
     "min_accel={accel}), has_lateral_acceleration({t}, log_dir, max_accel=-{accel})])",
+    # another road user's "oncoming" (phrase rules only): heading against the subject
+    "oncoming": "heading_in_relative_direction_to({t}, subject, log_dir, direction='opposite')",
 }
 
 

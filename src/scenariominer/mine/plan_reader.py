@@ -54,7 +54,7 @@ from scenariominer.mine.plan_wording import normalised_text as _normalised_text
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/38"
+PLAN_READER_VERSION = "plan-reader/39"
 
 
 @dataclass
@@ -184,10 +184,18 @@ def _speed_mps(value: str, unit: str | None) -> float:
     return round(float(value) * TO_MPS[unit or "m/s"], 2)
 
 
-_COMPILED = tuple(
-    (re.compile(r"(?<![\w-])" + p.pattern.replace("{obj}", f"(?P<obj>{_NP})") + r"(?![\w-])"), p)
-    for p in PHRASES
-)
+#: "not" before a relation to another road user ("cars not following any vehicle"): it must not hold.
+_NOT_RELATED = r"(?:(?P<notrel>not|never|are not|is not|aren't|isn't) )?"
+
+
+def _compiled(phrase: Phrase) -> re.Pattern[str]:
+    pattern = phrase.pattern.replace("{obj}", f"(?P<obj>{_NP})")
+    if "{obj}" in phrase.pattern and not re.search(r"\(\?P<(?:neg|no|without)>", phrase.pattern):
+        pattern = _NOT_RELATED + f"(?:{pattern})"
+    return re.compile(r"(?<![\w-])" + pattern + r"(?![\w-])")
+
+
+_COMPILED = tuple((_compiled(p), p) for p in PHRASES)
 
 
 #: Words whose loss would invert a partial reading ("not facing traffic" read as "facing traffic").
@@ -249,7 +257,7 @@ def _apply(phrase: Phrase, reading: _Reading, found: re.Match[str]) -> None:
     if "obj" in groups or phrase.to_subject or phrase.implied:
         implied = _last_other(reading) if phrase.implied == LAST else phrase.implied
         other = groups.get("obj", implied or reading.subject_phrase or reading.subject_words)
-        negated = "no" in groups or "without" in groups
+        negated = "no" in groups or "without" in groups or "notrel" in groups
         if negated and (phrase.reverse or phrase.sides or phrase.function in _NOT_NEGATABLE):
             raise _Unread(found.group(0))  # "with no X on both sides": the model reads it
         if phrase.any_side:
@@ -439,7 +447,10 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
             subject_phrase=(subject.group("mods") or "") + subject.group("noun"),
             subject=_categories(subject.group("noun")),
         )
-        reading.conditions.extend(_modifier_conditions(subject.group("mods")))
+        own = _modifier_conditions(subject.group("mods"))
+        if any(c["function"] == "oncoming" for c in own):
+            raise _Unread("oncoming")  # oncoming toward whom: the model reads it
+        reading.conditions.extend(own)
         rest = " " + text[subject.end() :] + " "
         if _clause_after_other(rest, reading.subject_words) or _BEING_AFTER_OBJECT.search(rest):
             # a relative clause after another road user ("... a pedestrian who is on a crosswalk")

@@ -297,6 +297,86 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         lambda m: "being crossed " + ("by " if "front" in m["side"] else "from behind by ") + m["np"],
     ),
+    # "pedestrians that the ego vehicle is driving toward": the other road user heads at the subject
+    (
+        re.compile(
+            rf"(?:\b(?:that|which|who|whom) )?(?<![\w-])(?P<np>{NP}) (?:is|are|was|were) "
+            r"(?:heading|driving|moving|going|travell?ing|coming|riding) (?:straight |directly )?"
+            r"(?:towards?|at)(?= within\b|$)"
+        ),
+        r"with \g<np> heading toward them",
+    ),
+    # "with a clear lane ahead, meaning no vehicle in front within 30 m": the definition
+    (re.compile(rf"\bwith {_CLEAR_ROAD},? (?:meaning|i\.e\.?|that is|so) (?=no )"), "with "),
+    # "... within 30 m inside about one lane's width", "ahead in its lane corridor": directly ahead
+    (
+        re.compile(
+            r"\b(in front of|ahead of) (them|it) (within \d+(?:\.\d+)? ?(?:m|metres?|meters?))"
+            r" (?:inside|within|in) (?:about |roughly |approximately )?(?:one|1|a|a single) lane'?s? width\b"
+        ),
+        r"directly \1 \2 \3",
+    ),
+    (
+        re.compile(r"\b(ahead|in front) in (?:its|their|the same|our) (?:own )?lane(?: corridor)?\b"),
+        r"directly \1",
+    ),
+    # "a lead vehicle in its lane less than 10 m ahead": directly ahead within 10 m
+    (
+        re.compile(
+            r"\bin (?:its|their|our|the same) (?:own )?lane (?:less than|under|within|closer than) "
+            r"(\d+(?:\.\d+)? ?(?:m|metres?|meters?)) (?:ahead|in front)\b"
+        ),
+        r"directly ahead within \1",
+    ),
+    # "with 3 or more pedestrians nearby within 5 m": within that distance
+    (re.compile(rf"(?<![\w-])({NP}) (?:nearby|close by|around) (?=within \d)"), r"\1 "),
+    # "vehicles the ego overtakes": the subject is the one overtaken
+    (
+        re.compile(
+            rf"^((?:all |the |any )?(?:{NOUN})) (?:that |which |whom )?(?P<np>{NP}) (?:is |are )?(?:overtakes"
+            r"|overtook|overtaking|passes|passed|passing)(?= on\b|$)"
+        ),
+        r"\1 being overtaken by \g<np>",
+    ),
+    (
+        re.compile(
+            rf"\b(being (?:overtaken|passed)) by (?P<np>{NP}) (?P<side>on (?:its|their|the) (?:left|right)"
+            r"(?:[- ]hand)?(?: side)?)(?=$|,| and| with| while)"
+        ),
+        r"\1 \g<side> by \g<np>",
+    ),
+    # "regular vehicles the ego's heading points at": with the ego facing them
+    (
+        re.compile(
+            rf"^((?:all |the |any )?(?:{NOUN})) (?:that |which )?(?P<np>{NP})(?:'s)? "
+            r"(?:heading |front |nose )?"
+            r"(?:points?|is pointing|pointing|points|faces|is facing|facing|aims|aiming) (?:at|towards?)"
+            r"(?=$| within)"
+        ),
+        r"\1 with \g<np> facing toward them",
+    ),
+    # "near a vehicle that is moving toward it": near one heading toward the subject
+    (
+        re.compile(
+            rf"\bnear (?P<np>{NP}) (?:that|which|who) (?:is|are) (?:moving|heading|driving|coming|going)"
+            r" (?:towards?|at) (?:it|them)\b"
+        ),
+        r"near \g<np> with \g<np> heading toward them",
+    ),
+    # "within 10 m of its bumper": of it
+    (
+        re.compile(r"\b(within \d+(?:\.\d+)? ?(?:m|metres?|meters?)) of (?:its|their) (?:front )?bumper\b"),
+        r"\1",
+    ),
+    # "bollards that a moving vehicle passes within 2 m of": with one that near
+    (
+        re.compile(
+            rf"\b(?:that|which) (?P<np>{NP}) (?:is |are )?(?:passes|passed|passing|drives|drove|driving|goes"
+            r"|went|going|comes|came|coming) (?:by |past )?(?P<d>within \d+(?:\.\d+)? ?(?:m|metres?|meters?))"
+            r" of$"
+        ),
+        r"with \g<np> \g<d>",
+    ),
     # the register of road rules: what an offence looks like in the logs
     (
         re.compile(
@@ -348,6 +428,16 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     ),
     (re.compile(r",? rather than on the road\b"), " and not on the road"),
     (re.compile(r"\bcar parks?\b"), "parking lot"),
+    (
+        re.compile(r"\bswing(?:s|ing)? (?:out )?(?:to(?:wards?)? )?(?:the |its |their )?(left|right)\b"),
+        r"swerving \1",
+    ),
+    (
+        re.compile(
+            r"\bother side of (?:the )?road (?:compared (?:with|to)|relative to|with respect to|than) "
+        ),
+        "other side of the road from ",
+    ),
     # "veh lane change to the right": a lane change named by its noun
     (
         re.compile(r"(?<!\ba )(?<!\bthe )(?<!\bany )\blane[- ]changes? (?:in)?to the (left|right)\b"),
@@ -378,9 +468,17 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # "the ego vehicle's lane / path"
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?(?:'s?)? lane\b"), "the same lane as the ego vehicle"),
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
+    # "in the same lane as the ego vehicle and in front of it": in front of the ego vehicle
+    (
+        re.compile(rf"(?<![\w-])(?P<np>{NP}) and (?P<rel>in front of|ahead of|behind) (?:it|them)(?![\w-])"),
+        r"\g<np> and \g<rel> \g<np>",
+    ),
+    # "a stopped lead vehicle": the relation says it leads
+    (re.compile(rf"(?<![\w-])({MODIFIER_RE}) (?:lead|leading|preceding) (?=(?:{NOUN})(?![\w-]))"), r"\1 "),
     # a subject's adjective that is a motion or a relation: "left-turning cars", "oncoming trucks"
     (re.compile(rf"^((?:an? |the |all )?)(left|right)[- ]turning ({NOUN})(?![\w-])"), r"\1\3 turning \2"),
     (re.compile(rf"^((?:an? |the |all )?)lane[- ]changing ({NOUN})(?![\w-])"), r"\1\2 changing lanes"),
+    (re.compile(rf"^((?:an? |the |all )?)(swerving|veering|weaving) ({NOUN})(?![\w-])"), r"\1\3 \2"),
     # "non-ego vehicles", "non-bus vehicles": other than those
     (re.compile(rf"^((?:an? |the |all |any )?)non-?(ego|{NOUN}) ({NOUN})(?![\w-])"), r"\1\3 other than \2"),
     # "a car within 5 m of them": within 5 m (of the road user named last)
@@ -407,7 +505,10 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # "following the ego vehicle in the same lane as the ego vehicle": in the same lane
     (re.compile(rf"\b(?P<np>{NP}) in (?:the )?same lane as (?P=np)(?![\w-])"), r"\g<np> in the same lane"),
     # "within 2 m of a pedestrian crossing": the crosswalk, not a pedestrian crossing the road
-    (re.compile(r"\b(of|at|near|on|to|by|in|from) (an?|the) pedestrian crossings?\b"), r"\1 \2 crosswalk"),
+    (
+        re.compile(r"\b(of|at|near|on|to|by|in|from|approach(?:es|ing)?) (an?|the) pedestrian crossings?\b"),
+        r"\1 \2 crosswalk",
+    ),
     # "closing the gap at 1 m/s or more": the closing speed
     (
         re.compile(r",? (?:closing (?:the gap|in|the distance)) at (\d+(?:\.\d+)? ?m/s) or more\b"),
@@ -420,6 +521,13 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
             r"(?:their|its) (?:own )?lane\b"
         ),
         r"directly \1 \2",
+    ),
+    (
+        re.compile(
+            r"\b(ahead of|in front of|behind) (them|it) (within \d+(?:\.\d+)? ?(?:m|metres?|meters?|feet|ft))"
+            r",? in (?:roughly |about |approximately )?(?:the same|their|its) (?:own )?lane(?: width)?\b"
+        ),
+        r"directly \1 \2 \3",
     ),
     # "somewhere other than on an intersection": not there
     (re.compile(r"\b(?:somewhere|anywhere) (?:other than|but|except) "), "not "),
