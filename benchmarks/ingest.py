@@ -39,6 +39,7 @@ import pyarrow.feather as feather
 
 from scenariominer import api
 from scenariominer.config import Config
+from scenariominer.data.ingest import _BATCH_SOURCES
 from scenariominer.data.preprocess import preprocess
 from scenariominer.data.sources import discover_sources, reader_for
 from scenariominer.exec import make_executor
@@ -206,9 +207,11 @@ def _cpu_per_step(data: Path, config: Config, out: Path) -> dict[str, float]:
     stores = iter(range(5))
 
     def store_all() -> None:
+        # as the ingest loop commits when reading runs ahead of the writer: batches of sources
         store = api.open_store(out / str(next(stores)))
-        for src, log in zip(sources, logs, strict=True):
-            store.replace_source(src.key, "benchmark", [log])
+        items = [(src.key, "benchmark", [log]) for src, log in zip(sources, logs, strict=True)]
+        for start in range(0, len(items), _BATCH_SOURCES):
+            store.replace_sources(items[start : start + _BATCH_SOURCES])
 
     return {
         "read": best_ms(lambda: [log for src in sources for log in reader_for(src).read(src, config)]),

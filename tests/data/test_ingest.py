@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import pytest
 
 from scenariominer.config import Config
-from scenariominer.data.ingest import MemorySink, ingest_sources
+from scenariominer.data.ingest import _BATCH_SOURCES, MemorySink, ingest_sources
 from scenariominer.data.log import Log
 from scenariominer.data.sources import InMemoryReader, LogSource
 from scenariominer.exec.local import InlineExecutor
@@ -72,16 +73,64 @@ def test_a_batch_under_min_pool_bytes_is_ingested_here_without_the_executor(tmp_
     assert Config().exec.min_ingest_bytes > 0  # on by default for the process executor
 
 
-class _ProbeSink(MemorySink):
-    """Records the thread of each commit and how many sources had been read when it started."""
+@pytest.mark.parametrize("fail", ["", "memory:c"])
+def test_commits_run_one_at_a_time_in_a_writer_thread_each_source_once(tmp_path: Path, fail: str) -> None:
+    t = times(2.0)
+    names = ["a", "b", "c", "d", "e"]
+    reader = _ProbeReader([LogBuilder(t, log_id=n).ego(speed_mps=5.0).build() for n in names])
+    sink = _ProbeSink(reader, fail=fail)
+    for name in names:
+        (tmp_path / name).mkdir()
+    results = ingest_sources([tmp_path / n for n in names], sink, Config(), readers=[reader])
+    keys = [f"memory:{n}" for n in names]
+    assert [r.key for r in results] == keys  # the sources' order, whatever finished first
+    assert [c[0] for c in sink.commits] == keys  # each source committed once, in order
+    assert all(writer for _, _, writer in sink.commits)
+    # a source is committed after it was read, and at most one batch is gathered ahead
+    assert all(i + 1 <= read <= i + 1 + _BATCH_SOURCES for i, (_, read, _) in enumerate(sink.commits))
+    status = {r.key: (r.status, r.error) for r in results}
+    for key in keys:
+        if key == fail:
+            assert status[key] == ("failed", "memory:c: the store refused it")
+        else:
+            assert status[key] == ("ingested", "")
+    assert [log.log_id for log in sink.all_logs()] == [n for n in names if f"memory:{n}" != fail]
 
-    def __init__(self, reader: _ProbeReader, fail: str = "") -> None:
+
+def test_sources_read_while_a_commit_runs_are_committed_together(tmp_path: Path) -> None:
+    names = ["a", "b", "c", "d", "e"]
+    reader = _ProbeReader([LogBuilder(times(2.0), log_id=n).ego(speed_mps=5.0).build() for n in names])
+    sink = _ProbeSink(reader, first_commit_s=1.0)  # reading the other four takes milliseconds
+    for name in names:
+        (tmp_path / name).mkdir()
+    results = ingest_sources([tmp_path / n for n in names], sink, Config(), readers=[reader])
+    assert [r.status for r in results] == ["ingested"] * 5
+    assert sink.batches == [["memory:a"], ["memory:b", "memory:c", "memory:d", "memory:e"]]
+
+
+class _ProbeSink(MemorySink):
+    """Records the thread of each commit, how many sources had been read when it started, the batches."""
+
+    def __init__(self, reader: _ProbeReader, fail: str = "", first_commit_s: float = 0.0) -> None:
         super().__init__()
-        self.reader, self.fail = reader, fail
+        self.reader, self.fail, self.first_commit_s = reader, fail, first_commit_s
         self.commits: list[tuple[str, int, bool]] = []  # (source, sources read by then, writer thread)
+        self.batches: list[list[str]] = []
         self._busy = threading.Lock()
 
+    def replace_sources(
+        self, batch: Sequence[tuple[str, str, Sequence[Log]]]
+    ) -> Sequence[list[str] | Exception]:
+        self.batches.append([key for key, _, _ in batch])
+        if len(self.batches) == 1:
+            time.sleep(self.first_commit_s)
+        return super().replace_sources(batch)
+
     def replace_source(self, source_key: str, content_hash: str, logs: Sequence[Log]) -> list[str]:
+        if not self.batches or source_key not in self.batches[-1]:
+            self.batches.append([source_key])  # a batch of one goes here directly
+            if len(self.batches) == 1:
+                time.sleep(self.first_commit_s)
         assert self._busy.acquire(blocking=False), "two commits ran at once"
         try:
             writer = threading.current_thread() is not threading.main_thread()
@@ -103,29 +152,3 @@ class _ProbeReader(InMemoryReader):
     def read(self, source: LogSource, config: Config) -> Iterator[Log]:
         self.reads += 1
         yield from super().read(source, config)
-
-
-@pytest.mark.parametrize("fail", ["", "memory:c"])
-def test_commits_run_one_at_a_time_in_a_writer_thread_at_most_one_source_ahead(
-    tmp_path: Path, fail: str
-) -> None:
-    t = times(2.0)
-    names = ["a", "b", "c", "d", "e"]
-    reader = _ProbeReader([LogBuilder(t, log_id=n).ego(speed_mps=5.0).build() for n in names])
-    sink = _ProbeSink(reader, fail=fail)
-    for name in names:
-        (tmp_path / name).mkdir()
-    results = ingest_sources([tmp_path / n for n in names], sink, Config(), readers=[reader])
-    keys = [f"memory:{n}" for n in names]
-    assert [r.key for r in results] == keys  # the sources' order, whatever finished first
-    assert [c[0] for c in sink.commits] == keys
-    assert all(writer for _, _, writer in sink.commits)
-    # the commit of source i starts once source i (and at most source i + 1) has been read
-    assert all(i + 1 <= read <= i + 2 for i, (_, read, _) in enumerate(sink.commits))
-    status = {r.key: (r.status, r.error) for r in results}
-    for key in keys:
-        if key == fail:
-            assert status[key] == ("failed", "memory:c: the store refused it")
-        else:
-            assert status[key] == ("ingested", "")
-    assert [log.log_id for log in sink.all_logs()] == [n for n in names if f"memory:{n}" != fail]

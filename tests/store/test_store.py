@@ -276,6 +276,42 @@ def test_a_log_that_cannot_round_trip_is_refused_before_anything_is_written(stor
     assert store.needs_ingest("src", "h")
 
 
+def test_a_batch_of_sources_lands_in_one_transaction_and_a_bad_source_stays_out_alone(
+    store: ScenarioStore,
+) -> None:
+    store.replace_source("old", "h0", [make_log("A")])
+    generation = store._generation()
+    bad = make_log("C")
+    vx = bad.vx_mps.copy()
+    vx[1, 2] = np.nan
+    outcomes = store.replace_sources(
+        [
+            ("s1", "h1", [make_log("B"), make_log("B2")]),
+            ("s2", "h2", [bad.replace(vx_mps=vx)]),  # cannot round-trip
+            ("s3", "h3", [make_log("A", x0=5.0)]),  # A belongs to source "old"
+            ("s4", "h4", [make_log("D")]),
+            ("s5", "h5", [make_log("D", x0=9.0), make_log("E")]),  # D is s4's by the time s5 switches
+            ("s6", "h6", [make_log("F", n_peds=2)]),
+        ]
+    )
+    assert outcomes[0] == ["B", "B2"] and outcomes[3] == ["D"] and outcomes[5] == ["F"]
+    assert isinstance(outcomes[1], InvalidLogError)
+    assert isinstance(outcomes[2], LogConflictError) and "already belongs to source old" in str(outcomes[2])
+    assert isinstance(outcomes[4], LogConflictError) and "already belongs to source s4" in str(outcomes[4])
+    assert store._generation() == generation + 1  # one catalog transaction for the whole batch
+    assert store.log_ids() == ["A", "B", "B2", "D", "F"]  # s5's E went back with its D
+    assert store.logs_of_source("old") == ["A"]
+    for log in (make_log("A"), make_log("D"), make_log("F", n_peds=2)):
+        assert_logs_equal(store.load_log(log.log_id), log)
+    assert [store.needs_ingest(k, h) for k, h in [("s1", "h1"), ("s2", "h2"), ("s5", "h5")]] == [
+        False,
+        True,
+        True,
+    ]
+    check = store.check()  # no files left behind by the sources kept out
+    assert (check.orphaned_files, check.missing_files, check.stale_staging) == ((), (), ())
+
+
 # ---------------------------------------------------------------------- atomicity
 
 

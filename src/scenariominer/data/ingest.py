@@ -46,6 +46,16 @@ class LogSink(Protocol):
         """Replace the source's logs atomically; returns the log ids written."""
         ...
 
+    def replace_sources(
+        self, batch: Sequence[tuple[str, str, Sequence[Log]]]
+    ) -> Sequence[list[str] | Exception]:
+        """Several :meth:`replace_source` calls at once (each source atomic on its own).
+
+        Returns, per source, its log ids or the error that kept it out; raises when the whole batch
+        failed (the loop then commits the sources one by one).
+        """
+        ...
+
 
 class MemorySink:
     """A sink that keeps the logs in memory (for a one-off run over files)."""
@@ -65,6 +75,18 @@ class MemorySink:
         """Keep the logs under the source's key."""
         self.logs[source_key] = list(logs)
         return [log.log_id for log in logs]
+
+    def replace_sources(
+        self, batch: Sequence[tuple[str, str, Sequence[Log]]]
+    ) -> Sequence[list[str] | Exception]:
+        """Keep each source's logs under its key (a source whose ``replace_source`` raises gets its error)."""
+        outcomes: list[list[str] | Exception] = []
+        for key, content_hash, logs in batch:
+            try:
+                outcomes.append(self.replace_source(key, content_hash, logs))
+            except Exception as exc:  # noqa: BLE001 - the source's outcome, as the store reports it
+                outcomes.append(exc)
+        return outcomes
 
     def all_logs(self) -> list[Log]:
         """Every log, in the order the sources were read."""
@@ -165,35 +187,51 @@ def ingest_sources(
     return results
 
 
+#: Sources committed in one catalog transaction at most, and the valid cells they may hold together
+#: (what the loop keeps in memory while a commit runs: about 40 MB of preprocessed arrays).
+_BATCH_SOURCES = 64
+_BATCH_FRAMES = 250_000
+
+
 def _ingest_pipelined(
     sources: Sequence[LogSource], sink: LogSink, reading: _Reading, progress: Progress
 ) -> list[SourceResult]:
-    """Ingest ``sources`` in order, committing each in a writer thread while the next is read.
+    """Ingest ``sources`` in order, committing in a writer thread while the next sources are read.
 
     A commit (Parquet encoding, fsync, the catalog transaction) spends most of its time outside the
-    GIL, so it overlaps reading and preprocessing the next source. At most one commit is in flight:
-    memory holds two sources' logs at most.
+    GIL, so it overlaps reading and preprocessing. The sources read while a commit runs are committed
+    together in the next one (one catalog transaction for the batch, each source atomic on its own:
+    :meth:`LogSink.replace_sources`), up to :data:`_BATCH_SOURCES` sources or
+    :data:`_BATCH_FRAMES` valid cells, which bounds the memory held: at most one batch in flight
+    and one being gathered.
     """
     results: list[SourceResult] = []
 
-    def done(result: SourceResult) -> None:
-        results.append(result)
-        name = Path(result.key).name
-        progress.advance(1, name if result.status == "ingested" else f"{result.status} {name}")
+    def done(batch_results: Sequence[SourceResult]) -> None:
+        for result in batch_results:
+            results.append(result)
+            name = Path(result.key).name
+            progress.advance(1, name if result.status == "ingested" else f"{result.status} {name}")
 
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="ingest-writer") as writer:
-        in_flight: Future[SourceResult] | None = None
+        in_flight: Future[list[SourceResult]] | None = None
+        gathered: list[_Prepared] = []
         for source in sources:
             prepared = reading.prepare(source, sink)
-            if in_flight is not None:
+            if isinstance(prepared, SourceResult):
+                done([prepared])
+            else:
+                gathered.append(prepared)
+            full = len(gathered) >= _BATCH_SOURCES or sum(p.n_frames for p in gathered) >= _BATCH_FRAMES
+            if in_flight is not None and (in_flight.done() or full):
                 done(in_flight.result())
                 in_flight = None
-            if isinstance(prepared, SourceResult):
-                done(prepared)
-            else:
-                in_flight = writer.submit(_commit, prepared, sink)
+            if in_flight is None and gathered:
+                in_flight, gathered = writer.submit(_commit_batch, gathered, sink), []
         if in_flight is not None:
             done(in_flight.result())
+        if gathered:
+            done(writer.submit(_commit_batch, gathered, sink).result())
     return results
 
 
@@ -261,6 +299,10 @@ class _Prepared:
     logs: list[Log]
     t0: float
 
+    @property
+    def n_frames(self) -> int:
+        return sum(log.n_frames for log in self.logs)
+
 
 @dataclass(frozen=True)
 class _Reading:
@@ -292,11 +334,34 @@ class _Reading:
 
 def _commit(prepared: _Prepared, sink: LogSink) -> SourceResult:
     """Hand the prepared logs to the sink; the source's result."""
-    source, logs = prepared.source, prepared.logs
     try:
-        written = sink.replace_source(source.key, prepared.content_hash, logs)
+        written = sink.replace_source(prepared.source.key, prepared.content_hash, prepared.logs)
     except Exception as exc:  # noqa: BLE001 - see _failed
-        return _failed(source, exc, prepared.t0)
+        return _failed(prepared.source, exc, prepared.t0)
+    return _ingested(prepared, written)
+
+
+def _commit_batch(batch: Sequence[_Prepared], sink: LogSink) -> list[SourceResult]:
+    """Hand several sources' logs to the sink at once; their results, in order.
+
+    When the batch as a whole fails (a disk error, a catalog error), each source is committed on its
+    own, so the error is reported against the source that meets it and the others still land.
+    """
+    if len(batch) == 1:
+        return [_commit(batch[0], sink)]
+    try:
+        outcomes = sink.replace_sources([(p.source.key, p.content_hash, p.logs) for p in batch])
+    except Exception:  # noqa: BLE001 - retried source by source, which reports each error
+        return [_commit(p, sink) for p in batch]
+    return [
+        _failed(p.source, o, p.t0) if isinstance(o, Exception) else _ingested(p, o)
+        for p, o in zip(batch, outcomes, strict=True)
+    ]
+
+
+def _ingested(prepared: _Prepared, written: Sequence[str]) -> SourceResult:
+    """The result of a source whose logs the sink took."""
+    source, logs = prepared.source, prepared.logs
     return SourceResult(
         source.key,
         source.format,

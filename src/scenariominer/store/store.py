@@ -54,12 +54,10 @@ from scenariominer.store.catalog import (
     _TABLE_NAMES_SQL,
     _delete_log_rows,
     _existing_logs,
-    _log_rows,
     _table_list,
 )
 from scenariominer.store.corpus import CorpusTable, CorpusTableInfo, list_corpus_tables
 from scenariominer.store.errors import (
-    InvalidLogError,
     InvalidNameError,
     LogConflictError,
     NotAStoreError,
@@ -89,7 +87,6 @@ from scenariominer.store.layout import (
     _write_parquet,
     check_table_name,
     find_orphans,
-    log_dir_name,
 )
 from scenariominer.store.query import (
     _relation_to_arrow,
@@ -100,8 +97,6 @@ from scenariominer.store.records import (
     SourceRecord,
     StoreCheck,
     StoreInfo,
-    _check_storable,
-    _log_digest,
     _log_from_table,
     _LogRow,
     _meta_file,
@@ -110,6 +105,7 @@ from scenariominer.store.records import (
     _Snapshot,
     _with_log_id,
 )
+from scenariominer.store.writes import SourceContent, replace_sources
 
 # ---------------------------------------------------------------------- errors
 
@@ -275,83 +271,26 @@ class ScenarioStore:
             InvalidNameError: a log id cannot be used as a directory name.
             LogConflictError: a log id belongs to another source.
         """
-        logs = list(logs)
-        ids = [log.log_id for log in logs]
-        dupes = sorted(i for i, c in Counter(ids).items() if c > 1)
-        if dupes:
-            raise InvalidLogError(f"source {source_key}: log id(s) {dupes[:5]} occur more than once")
-        for log in logs:
-            log_dir_name(log.log_id)
-            _check_storable(log)
-        digests = {log.log_id: _log_digest(log) for log in logs}
-        with contextlib.closing(self._connect()) as con:
-            before = _log_rows(con, source_key, ids)
-        self._check_owners(source_key, ids, before)
+        (outcome,) = replace_sources(self, [(source_key, content_hash, logs)])
+        if isinstance(outcome, Exception):
+            raise outcome
+        return outcome
 
-        staging = self._new_staging()
-        staged: dict[str, Path] = {}
-        moved: list[Path] = []
-        garbage: list[Path] = []
-        kept: list[tuple[Path, LogMeta]] = []
-        now = _now()
-        metas = {log.log_id: LogMeta.of_log(log, source_key, now) for log in logs}
-        try:
-            for log in logs:
-                row = before.get(log.log_id)
-                if row is None or row.digest != digests[log.log_id]:
-                    staged[log.log_id] = self._stage_log(staging, log, metas[log.log_id], digests[log.log_id])
-            with self._write_txn() as con:
-                current = _log_rows(con, source_key, ids)
-                self._check_owners(source_key, ids, current)
-                for log in logs:
-                    log_id = log.log_id
-                    row = current.get(log_id)
-                    meta_json = json.dumps(metas[log_id].to_json_dict())
-                    if log_id not in staged and (row is None or row.digest != digests[log_id]):
-                        # Another writer changed the log since our first look: write it now.
-                        staged[log_id] = self._stage_log(staging, log, metas[log_id], digests[log_id])
-                    if log_id not in staged:
-                        assert row is not None
-                        con.execute("UPDATE logs SET meta = ? WHERE log_id = ?", (meta_json, log_id))
-                        kept.append((self._root / row.dir, metas[log_id]))
-                        continue
-                    final = self._root / _LOGS_DIR / log_dir_name(log_id) / staged[log_id].name
-                    final.parent.mkdir(parents=True, exist_ok=True)
-                    os.replace(staged[log_id], final)
-                    moved.append(final)
-                    if row is not None:
-                        garbage.append(self._root / row.dir)
-                    rel_dir = final.relative_to(self._root).as_posix()
-                    con.execute("DELETE FROM log_tables WHERE log_id = ?", (log_id,))
-                    con.execute(
-                        "INSERT OR REPLACE INTO logs (log_id, source_key, dir, digest, meta) "
-                        "VALUES (?, ?, ?, ?, ?)",
-                        (log_id, source_key, rel_dir, digests[log_id], meta_json),
-                    )
-                    con.execute(
-                        "INSERT INTO log_tables (log_id, name, file, n_rows) VALUES (?, ?, ?, ?)",
-                        (log_id, TRACKS_TABLE, f"{rel_dir}/{TRACKS_TABLE}.parquet", log.n_frames),
-                    )
-                wanted = set(ids)
-                for row in current.values():
-                    if row.source_key == source_key and row.log_id not in wanted:
-                        _delete_log_rows(con, row.log_id)
-                        garbage.append(self._root / row.dir)
-                con.execute(
-                    "INSERT OR REPLACE INTO sources (source_key, content_hash, ingested_at) VALUES (?, ?, ?)",
-                    (source_key, content_hash, now.isoformat()),
-                )
-        except BaseException:
-            for path in moved:
-                _remove_tree(path)
-            raise
-        finally:
-            _remove_tree(staging)
-        for version_dir, meta in kept:
-            with contextlib.suppress(OSError):
-                _write_json_atomic(version_dir / "meta.json", _meta_file(meta, digests[meta.log_id]))
-        self._discard(garbage)
-        return ids
+    def replace_sources(self, batch: Sequence[SourceContent]) -> list[list[str] | Exception]:
+        """Several :meth:`replace_source` calls in one catalog transaction, each source atomic on its own.
+
+        Args:
+            batch: ``(source_key, content_hash, logs)`` per source; source keys must differ.
+
+        Returns:
+            Per source, in the order given: its log ids, or the error that kept it out
+            (:class:`InvalidLogError`, :class:`InvalidNameError`, :class:`LogConflictError`);
+            the other sources are stored.
+
+        Raises:
+            OSError, sqlite3.Error: writing files or the catalog failed; nothing of the batch is stored.
+        """
+        return replace_sources(self, batch)
 
     def remove_log(self, log_id: str) -> None:
         """Remove a log with all its tables.
