@@ -139,6 +139,8 @@ SPLITS: tuple[str, ...] = (
     "fresh30",
     "fresh31",
     "fresh32",
+    "fresh34",
+    "fresh36",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
