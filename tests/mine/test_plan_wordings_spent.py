@@ -366,6 +366,11 @@ def test_a_while_clause_naming_another_road_user_is_a_with_clause() -> None:
             "ped crossing in front of a car (within 10 m of its bumper)",
             "pedestrians crossing in front of a car within 10 m",
         ),
+        # from the spent fresh34 run (search-box queries)
+        ("ego left turn", "the ego vehicle turning left"),
+        ("trucks left of ego", "trucks to the left of the ego vehicle"),
+        ("non vehicles on road", "objects other than vehicles on the road"),
+        ("cars changing lanes right", "cars changing lanes to the right"),
         (
             "vehicles that have another vehicle ahead of them within 30 feet, in roughly the same lane width",
             "vehicles with another vehicle directly ahead of them within 9.144 m",

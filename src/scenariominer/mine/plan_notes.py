@@ -51,6 +51,13 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
                 r"(left|right)(?:-hand| hand)? lane\b"), r"changing lanes to the \1"),
     (re.compile(r"\bstopped (?:momentarily|briefly)\b"), "coming to a momentary stop"),
     (re.compile(r"\bgoing straight \((?:no turns?|not turning)\)"), "going straight"),
+    # search-box queries: "ego left turn", "trucks left of ego", "non vehicles on road", "changing
+    # lanes right"
+    (re.compile(rf"(?<![\w-])({CATEGORY_RE}) (left|right)[- ]turns?\b"), r"\1 turning \2"),
+    (re.compile(rf"(?<![\w-])({CATEGORY_RE}) (left|right) of\b"), r"\1 to the \2 of"),
+    (re.compile(rf"^non[- ]({CATEGORY_RE})(?![\w-])(?! (?:{CATEGORY_RE})(?![\w-]))"),
+     r"objects other than \1"),
+    (re.compile(r"\bchanging lanes? (left|right)\b"), r"changing lanes to the \1"),
     # "groups of pedestrians, at least 2 other pedestrians within 3 m": those with that many nearby
     (re.compile(rf"^(?:groups?|clusters?|crowds?|bunches?) of ({CATEGORY_RE})(?:,| with| having)? "
                 r"(?=at least \d|\d+ or more|more than \d)"), r"\1 with "),

@@ -346,9 +346,9 @@ PHRASES: tuple[Phrase, ...] = (
         "has_objects_in_relative_direction", "within_distance={dist}, {lateral}", "backward",
     ),
     Phrase(
-        _HAVE + " " + _QUANTITY + r"{obj} (?:on |to )(?:their |its |the )(?P<dir>left|right)"
-        r"(?: side| hand side)? within " + _DIST,
-        "has_objects_in_relative_direction", "within_distance={dist}", "{dir}",
+        _HAVE + " " + _QUANTITY + r"{obj} " + _DIRECTLY
+        + r"(?:on |to )(?:their |its |the )(?P<dir>left|right)(?: side| hand side)? within " + _DIST,
+        "has_objects_in_relative_direction", "within_distance={dist}, {lateral}", "{dir}",
     ),
     Phrase(
         _HAVE + " " + _QUANTITY + r"{obj} within " + _DIST

@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 
+from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_learners import learner_wording
 from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_notes import plain_notes
@@ -209,7 +210,8 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = present_tense(_spec_lines(learner_wording(plain_notes(" ".join(description.lower().split())))))
+    text = " ".join(description.lower().split())
+    text = present_tense(_spec_lines(learner_wording(plain_notes(formal_wording(text)))))
     # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
     text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
     text = " ".join(_listed_road_users(text).replace(",", " ").split()).rstrip(".!?")
@@ -486,7 +488,8 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # "max 5 meter away": within 5 m
     (
         re.compile(
-            r"\b(?:max(?:imum|imal|imally)?|at most|up to) (\d+(?:\.\d+)?) ?(m|meters?|metres?)(?: away)?\b"
+            r"\b(?:max(?:imum|imal|imally)?|at most|up to) (\d+(?:\.\d+)?) ?(m|meters?|metres?)(?![\w/])"
+            r"(?: away)?"
         ),
         r"within \1 \2",
     ),
@@ -669,7 +672,9 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     ),
     # "of any kind": every category (the subject's own word says it)
     (
-        re.compile(r"(?<!truck)(?<!trucks) (?:of any (?:kind|type|sort|category)|of all (?:kinds|types))\b"),
+        re.compile(
+            r"(?<!truck)(?<!trucks) (?:of (?:any|every) (?:kind|type|sort|category)|of all (?:kinds|types))\b"
+        ),
         "",
     ),
     # "a car to the left of it": on its left
