@@ -140,6 +140,7 @@ SPLITS: tuple[str, ...] = (
     "fresh31",
     "fresh32",
     "fresh34",
+    "fresh35",
     "fresh36",
 )
 
