@@ -139,6 +139,7 @@ SPLITS: tuple[str, ...] = (
     "fresh30",
     "fresh31",
     "fresh32",
+    "fresh33",
     "fresh34",
     "fresh35",
     "fresh36",
