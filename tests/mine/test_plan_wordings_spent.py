@@ -366,6 +366,44 @@ def test_a_while_clause_naming_another_road_user_is_a_with_clause() -> None:
             "ped crossing in front of a car (within 10 m of its bumper)",
             "pedestrians crossing in front of a car within 10 m",
         ),
+        # from the spent fresh35 run (a tracking engineer's words)
+        ("all TRUCK_CAB tracks (semi-tractor units) in the scene", "truck cabs"),
+        ("LARGE_VEHICLE tracks that stay put for the entire log", "parked large vehicles"),
+        (
+            "vehicles momentarily held at under 0.5 m/s while on an intersection",
+            "vehicles under 0.5 m/s on an intersection",
+        ),
+        ("vehicles executing a lane change into the right-hand lane", "vehicles changing lanes to the right"),
+        (
+            "vehicles with a bicycle off their left flank within 5 metres",
+            "vehicles with a bicycle on their left within 5 m",
+        ),
+        (
+            "pedestrians oriented toward the ego, within 30 degrees of their heading",
+            "pedestrians facing the ego vehicle within 30 degrees",
+        ),
+        ("the ego tracking behind a lead vehicle in its own lane", "the ego vehicle following a vehicle"),
+        (
+            "vehicles sharing the ego's lane and no more than 30 m ahead of it",
+            "vehicles in the same lane as the ego vehicle and ahead of the ego vehicle within 30 m",
+        ),
+        (
+            "construction cones or bollards sitting on a mapped lane",
+            "construction cones or bollards on the road",
+        ),
+        (
+            "moving vehicles with no vehicle within 20 m ahead in a one-lane corridor",
+            "moving vehicles with no vehicle directly ahead within 20 m",
+        ),
+        ("any annotated object within 2 m of the ego's box", "objects within 2 m of the ego vehicle"),
+        (
+            "the ego with a vehicle off its right side within 3 m and at most 1 m ahead of or behind its box",
+            "the ego vehicle with a vehicle directly on its right within 3 m",
+        ),
+        (
+            "vehicles overtaking the ego along its left flank, passing back to front within 4 m",
+            "vehicles overtaking the ego vehicle on its left within 4 m",
+        ),
         # from the spent fresh34 run (search-box queries)
         ("ego left turn", "the ego vehicle turning left"),
         ("trucks left of ego", "trucks to the left of the ego vehicle"),

@@ -13,13 +13,14 @@ names another road user is a "with" clause.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
 from scenariominer.mine.plan_nouns import CATEGORY_RE, NP, SUBJECT
 
 __all__ = ["plain_notes"]
 
 #: Shorthand and fragments, each with its plain wording, applied in order.
-_SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
+_SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
     (re.compile(r"\bw/in\b"), "within"),
     (re.compile(r"\bw/o\b"), "without"),
     (re.compile(r"\bw/(?=\s|[a-z])\s*"), "with "),
@@ -29,7 +30,7 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\bthird[- ]party ((?:\w+ )?)(vehicles?|cars?|traffic)\b"),
      r"\1\2 other than the ego vehicle"),
     # places off the road given as examples: "(car park / driveway)"
-    (re.compile(r" ?\((?:(?:car parks?|parking(?: lots?)?|driveways?|forecourts?|garages?)"
+    (re.compile(r" ?\((?:(?:car parks?|parking(?: lots?)?|lots?|driveways?|forecourts?|garages?)"
                 r"\s*(?:/|,|or)?\s*)+\)"), ""),
     # "(drivable area but not a road)" after a parking lot: what a parking lot is
     (re.compile(r" ?\((?:in |on )?(?:the |a )?drivable (?:area|surface),? (?:but )?not (?:on )?"
@@ -58,6 +59,37 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(rf"^non[- ]({CATEGORY_RE})(?![\w-])(?! (?:{CATEGORY_RE})(?![\w-]))"),
      r"objects other than \1"),
     (re.compile(r"\bchanging lanes? (left|right)\b"), r"changing lanes to the \1"),
+    # a tracking engineer's words: category names as the annotations spell them ("TRUCK_CAB"),
+    # "pedestrian tracks", "off its left flank", "the ego's box", "in a one-lane corridor"
+    (re.compile(r"\b([a-z]+)_([a-z]+)(?:_([a-z]+))?\b"), lambda m: " ".join(g for g in m.groups() if g)),
+    (re.compile(rf"(?<![\w-])({CATEGORY_RE}) (?:tracks|agents|detections|instances|objects)\b"), r"\1"),
+    (re.compile(r"\bannotated (?=objects?\b|tracks?\b|agents?\b)"), ""),
+    (re.compile(r"\b(?:semi[- ])?tractor units?\b(?= ?\))"), "truck cabs"),
+    (re.compile(r" in the (?:scene|log|recording|sequence|scenario)$"), ""),
+    (re.compile(r"\b(?:which|that) (?:remain|remains|stay|stays) (?:stationary|parked|at rest|put|still)"
+                r" (?:for|during|throughout) the (?:entire|whole) (?:recording|log|sequence"
+                r"|scenario|scene)\b"),
+     "which are parked"),
+    (re.compile(r"\b(?:momentarily |briefly )?held at (?=under|below|less than)"), ""),
+    (re.compile(r"\b(?:executing|performing|making|doing|undertaking) a lane change (?:in)?to"
+                    r" (?:the )?(left|right)"
+                r"(?:-hand| hand)?(?: lane)?\b"), r"changing lanes to the \1"),
+    (re.compile(r"\boff (its|their) (left|right) side (within \d+(?:\.\d+)? ?m) and (?:at most"
+                    r"|within) (?:1|one) m"
+                r"(?:etres?|eters?)? ahead of or behind (?:its|their) box\b"), r"directly on \1 \2 \3"),
+    (re.compile(r"\b(?:off|along|down) (its|their|the) (left|right) (?:flank|side)\b"), r"on \1 \2"),
+    (re.compile(r",? passing (?:from )?(?:back|rear) to front\b"), ""),
+    (re.compile(r"\b(the ego(?: vehicle)?)'s(?=$|,)"), r"\1"),
+    (re.compile(r"\b(the ego(?: vehicle)?)'s (?:bounding )?box\b"), r"\1"),
+    (re.compile(r"\boriented (?=toward|towards|at\b)"), "facing "),
+    (re.compile(r"\b(within \d+ degrees) of (?:their|its) heading\b"), r"\1"),
+    (re.compile(r"\b(?:tracking|trailing|driving|travell?ing) behind (?:an? |the )?lead (\w+)"
+                r"(?: in (?:its|their) (?:own )?lane| in the same lane)?"), r"following a \1"),
+    (re.compile(r"\bsharing (?:the )?ego(?: vehicle)?'s lane\b"), "in the same lane as the ego vehicle"),
+    (re.compile(r"\bon (?:an? |the |any )?(?:mapped (?:road )?|road )lanes?\b"), "on the road"),
+    (re.compile(r"\b(within \d+(?:\.\d+)? ?m) (ahead|in front)(?: of (?:it|them))? in an? (?:one|1"
+                    r"|single)[- ]lane"
+                r"(?:[- ]wide)? corridor\b"), r"directly \2 \1"),
     # "groups of pedestrians, at least 2 other pedestrians within 3 m": those with that many nearby
     (re.compile(rf"^(?:groups?|clusters?|crowds?|bunches?) of ({CATEGORY_RE})(?:,| with| having)? "
                 r"(?=at least \d|\d+ or more|more than \d)"), r"\1 with "),

@@ -472,8 +472,12 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (re.compile(r"\b(?:the )?ego(?: vehicle| car)?'s? path\b"), "the path of the ego vehicle"),
     # "in the same lane as the ego vehicle and in front of it": in front of the ego vehicle
     (
-        re.compile(rf"(?<![\w-])(?P<np>{NP}) and (?P<rel>in front of|ahead of|behind) (?:it|them)(?![\w-])"),
-        r"\g<np> and \g<rel> \g<np>",
+        re.compile(
+            rf"(?<![\w-])(?P<np>{NP}) and (?P<d>within \d+(?:\.\d+)? ?m )?(?P<rel>in front of|ahead"
+            rf" of|behind)"
+            r" (?:it|them)(?![\w-])"
+        ),
+        lambda m: f"{m['np']} and {m['rel']} {m['np']}" + (f" {m['d'].strip()}" if m["d"] else ""),
     ),
     # "a stopped lead vehicle": the relation says it leads
     (re.compile(rf"(?<![\w-])({MODIFIER_RE}) (?:lead|leading|preceding) (?=(?:{NOUN})(?![\w-]))"), r"\1 "),
