@@ -366,6 +366,43 @@ def test_a_while_clause_naming_another_road_user_is_a_with_clause() -> None:
             "ped crossing in front of a car (within 10 m of its bumper)",
             "pedestrians crossing in front of a car within 10 m",
         ),
+        # from the spent fresh33 run (a safety driver's end-of-shift report)
+        (
+            "I saw a few pedestrians walking out on the road itself instead of the sidewalk",
+            "pedestrians walking on the road",
+        ),
+        ("I watched some cars hop over into the lane on their left", "cars changing lanes to the left"),
+        ("at one point we made a right turn", "the ego vehicle making a right turn"),
+        ("there were construction cones sitting out on the road", "construction cones on the road"),
+        ("I saw other vehicles doing over 30 mph", "vehicles doing more than 30 mph"),
+        ("cars turned left somewhere ahead of us", "cars turning left ahead of the ego vehicle"),
+        ("some vehicle ahead of us changed lanes", "a vehicle ahead of the ego vehicle changing lanes"),
+        ("cars were behind us, within 20 metres", "cars behind the ego vehicle within 20 m"),
+        (
+            "there was a moment when we had at least three pedestrians out in front of us",
+            "the ego vehicle with at least 3 pedestrians in front of it",
+        ),
+        (
+            "a pedestrian was walking straight toward us",
+            "a pedestrian walking straight toward the ego vehicle",
+        ),
+        ("some parked cars were pointed right at us", "parked cars facing the ego vehicle"),
+        ("a car was tailing us for a while", "a car tailing the ego vehicle"),
+        ("I saw a car following behind a box truck in its lane", "a car following a box truck"),
+        ("we squeezed by within 2 m of a parked car", "the ego vehicle within 2 m of a parked car"),
+        (
+            "cars went straight through the intersection without turning",
+            "cars going straight on an intersection",
+        ),
+        ("a bus or a truck got within 10 m of us", "a bus or truck within 10 m of the ego vehicle"),
+        (
+            "a pedestrian was walking in the same direction we were driving",
+            "a pedestrian walking in the same direction as the ego vehicle",
+        ),
+        (
+            "we drove through the intersection while a pedestrian was on the crosswalk nearby",
+            "the ego vehicle on an intersection near a pedestrian who is at a crosswalk",
+        ),
         # from the spent fresh35 run (a tracking engineer's words)
         ("all TRUCK_CAB tracks (semi-tractor units) in the scene", "truck cabs"),
         ("LARGE_VEHICLE tracks that stay put for the entire log", "parked large vehicles"),

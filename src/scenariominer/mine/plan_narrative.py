@@ -64,8 +64,78 @@ _ACTION = re.compile(
     rf"\b(?P<lead>(?:that|who|which)|(?:the )?ego(?: vehicle| car)?)(?P<adverbs>(?: \w+ly)*)"
     rf" (?:(?:was|were|had been) )?(?P<verb>{_PAST})\b(?! by\b)"
 )
+#: A past-tense verb that is no passive ("is crossed", "being passed by", "got overtaken").
+_ANY_PAST = re.compile(
+    rf"(?<!\bbeing )(?<!\bbe )(?<!\bis )(?<!\bare )(?<!\bget )(?<!\bgot )(?<!\bgets )(?<!\bgetting )"
+    rf"\b(?P<verb>{_PAST})\b(?!(?: on (?:its|their|the) (?:left|right)(?: side)?| from behind)? by\b)"
+)
+#: "was" / "were" before a place, a state or a verb's -ing form: a road user's state ("a car was
+#: stopped", "cars were behind us", "a pedestrian was walking").
+_PROGRESSIVE = re.compile(
+    r"\b(?:was|were) (?=(?:behind|ahead|in front|near|next to|beside|alongside|on|in|at|within|parked|stopped"
+    r"|pointed|\w+ing)\b)"
+)
 #: Rewordings applied in order: (pattern, replacement).
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
+    # an end-of-shift report: "I saw ...", "there were ...", "at one point ...", "for a while"
+    (re.compile(r"^(?:i|we) (?:saw|see|noticed|spotted|watched|remember(?:ed)?|observed|recall(?:ed)?|caught)"
+                r" "), ""),
+    (re.compile(r"^at (?:one|1|some) point,? "), ""),
+    (re.compile(r",? at (?:one|1|some) point$"), ""),
+    (re.compile(r"^there (?:was|were|are|is) (?:a (?:moment|time|point|stretch) (?:when|where) )?"), ""),
+    (re.compile(r"^(?:lots of|plenty of|a few|a (?:bunch|couple|handful|lot) of|several|many|some) "), ""),
+    (re.compile(r"\ba (?:bunch|couple|handful|lot) of\b ?"), ""),
+    (re.compile(r",? (?:today|yesterday|this morning|this afternoon|tonight|earlier)$"), ""),
+    (re.compile(r",? for (?:a (?:bit|while|moment|second|few seconds)|some time)\b"), ""),
+    (re.compile(r",? (?:altogether|the whole time|all the time)\b"), ""),
+    (re.compile(r" ?\([^()]*\b(?:that kind of thing|and so on|and the like|or so)\b[^()]*\)"), ""),
+    (re.compile(r"\b(?:pretty|really|quite|fairly|rather|super) (?=hard|fast|close|slow|sharply)"), ""),
+    (re.compile(r"\bhad to (brake|stop|slow down|swerve|yield)\b"), r"\1ing"),
+    (re.compile(r"\bbrakeing\b"), "braking"),
+    (re.compile(r"\bstoping\b"), "stopping"),
+    (re.compile(r"\bslow downing\b"), "slowing down"),
+    (re.compile(r"\bswerveing\b"), "swerving"),
+    (re.compile(r"\b(?:hop(?:ped|s|ping)?|jump(?:ed|s|ing)?|slid(?:e|es|ing)?|drift(?:ed|s|ing)?"
+                    r"|duck(?:ed|s|ing)?)"
+                r" (?:over )?(?:in)?to the (?:lane|one) (?:on|to) (?:its|their|the) (left|right)\b"),
+     r"changing lanes to the \1"),
+    (re.compile(r"\bjerk(?:ed|s|ing)? sideways(?: to(?:wards?)? (?:its|their|the) (left"
+                    r"|right))?"), r"swerving \1"),
+    (re.compile(r"\b(?:squeez(?:ed|ing|es?)|nudg(?:ed|ing|es?)) (?:by|past|through)\b"), "passing"),
+    (re.compile(r"\b(stopped|parked|standing|sitting|waiting) right (?=on |in |at )"), r"\1 "),
+    (re.compile(r"\bright through\b"), "through"),
+    (re.compile(r"(?<!pass )(?<!passing )(?<!passes )\bthrough the middle of (an?|the)"
+                    r" (intersection|junction)\b"),
+     r"on \1 \2"),
+    (re.compile(r"\bup ahead\b"), "ahead"),
+    (re.compile(r"\bout (?=in front of|ahead|in the)"), ""),
+    (re.compile(r"\bover (?=on the)"), ""),
+    (re.compile(r"\b(?:hanging|standing|milling|gathered|loitering) (?:around|about|near) (?:it"
+                    r"|them)\b"), "nearby"),
+    (re.compile(r",? instead of (?:on )?(?:the |a )?(?:sidewalk|pavement|footpath)s?\b"), ""),
+    (re.compile(r"\b(road|street|lane) itself\b"), r"\1"),
+    (re.compile(r"\b(?:and )?left standing\b"), ""),
+    (re.compile(r"\bwithin (?:about|roughly|approximately|around) (?=\d)"), "within "),
+    (re.compile(r"\b(?:got|gets|getting|came|comes|coming) (?=within \d)"), ""),
+    (re.compile(r"\bdoing over\b"), "doing more than"),
+    (re.compile(r"^other (?=\w)"), ""),
+    (re.compile(r"\b(?:rolled|rolling|rolls) (?=alongside|beside|past|by\b)"), "driving "),
+    (re.compile(r"\bfollowing behind\b"), "following"),
+    (re.compile(r"\bpassing (?=within \d)"), ""),
+    (re.compile(r"\bbut not on (?:an actual|a real|any|an?) (?:mapped )?(?:road"
+                    r" )?lane\b"), "and not on the road"),
+    (re.compile(r",? (?:like|such as) (?:[\w-]+s(?:,| and| or)? ?)+$"), ""),
+    (re.compile(r"\bwhile (an?|another) (\w+) (?:was|were|is|are) (?:on|at) (?:the|a) crosswalk nearby\b"),
+     r"near \1 \2 who is at a crosswalk"),
+    (re.compile(r"\b(?:coming|driving|heading) (?:at|toward|towards) (?:us|the ego vehicle) the"
+                    r" other way\b"), ""),
+    (re.compile(r"\bin the same direction (?:that |as )?we (?:were|are) (?:driving|going"
+                    r"|travell?ing|moving|heading)\b"),
+     "in the same direction as the ego vehicle"),
+    (re.compile(r"\b(that|which|who) (?:were|was) not\b"), r"\1 are not"),
+    (re.compile(r"\b(that|which|who) (?:weren't|wasn't)\b"), r"\1 are not"),
+    (re.compile(r"^we had (?=(?:at least|an?|some|\d))"), "the ego vehicle with "),
+    (re.compile(r"\bwhen we had (?=(?:at least|an?|some|\d))"), "the ego vehicle with "),
     # the first person: "we", "our car", "our lane", "on our left"
     (re.compile(r"^we (?:were |are |was )?"), "the ego vehicle "),
     (re.compile(r"\bour (?:own )?(?:car|vehicle|av)\b"), "the ego vehicle"),
@@ -124,6 +194,9 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
                 r" (?:the|an) intersection\b"), "near an intersection"),
     (re.compile(r"\bout (on|in) the (road|street)\b"), r"\1 the \2"),
     (re.compile(r" (?:down|along|up) the (?:road|street)$"), ""),
+    # "the ego vehicle with at least 3 pedestrians in front of the ego vehicle": in front of it
+    (re.compile(r"^(the ego vehicle) with (.+?) (in front of|ahead of|behind) (?:us|the ego vehicle)\b"),
+     r"\1 with \2 \3 it"),
 )  # fmt: skip
 
 
@@ -136,4 +209,8 @@ def present_tense(text: str) -> str:
     """
     for pattern, replacement in _REWRITES:
         text = pattern.sub(replacement, text)
-    return _ACTION.sub(lambda m: f"{m['lead']}{m['adverbs']} {PAST_FORMS[m['verb']]}", text)
+    text = _ACTION.sub(lambda m: f"{m['lead']}{m['adverbs']} {PAST_FORMS[m['verb']]}", text)
+    # a road user's past-tense verb anywhere else ("cars turned left", "a car was tailing us"):
+    # its -ing form, unless it is a passive ("being passed by", "is crossed")
+    text = _PROGRESSIVE.sub("", text)
+    return _ANY_PAST.sub(lambda m: PAST_FORMS[m["verb"]], text)

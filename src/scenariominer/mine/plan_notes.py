@@ -55,6 +55,7 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], 
     # search-box queries: "ego left turn", "trucks left of ego", "non vehicles on road", "changing
     # lanes right"
     (re.compile(rf"(?<![\w-])({CATEGORY_RE}) (left|right)[- ]turns?\b"), r"\1 turning \2"),
+    (re.compile(rf"(?<![\w-])({CATEGORY_RE}) or an? (?=(?:{CATEGORY_RE})(?![\w-]))"), r"\1 or "),
     (re.compile(rf"(?<![\w-])({CATEGORY_RE}) (left|right) of\b"), r"\1 to the \2 of"),
     (re.compile(rf"^non[- ]({CATEGORY_RE})(?![\w-])(?! (?:{CATEGORY_RE})(?![\w-]))"),
      r"objects other than \1"),

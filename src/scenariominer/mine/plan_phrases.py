@@ -563,7 +563,7 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(
         r"(?:(?:directly )?facing(?: towards?)?|looking (?:straight |directly |right )?(?:towards?|at)"
         r"|turned towards?"
-        r"|(?:pointed|pointing|aimed|aiming) (?:directly |straight )?(?:at|towards?)) {obj}",
+        r"|(?:pointed|pointing|aimed|aiming) (?:directly |straight |right )?(?:at|towards?)) {obj}",
         "facing_toward",
     ),
     Phrase(
