@@ -143,6 +143,10 @@ SPLITS: tuple[str, ...] = (
     "fresh34",
     "fresh35",
     "fresh36",
+    "fresh37",
+    "fresh38",
+    "fresh39",
+    "fresh40",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
