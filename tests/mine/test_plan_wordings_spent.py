@@ -366,6 +366,64 @@ def test_a_while_clause_naming_another_road_user_is_a_with_clause() -> None:
             "ped crossing in front of a car (within 10 m of its bumper)",
             "pedestrians crossing in front of a car within 10 m",
         ),
+        # from the spent fresh37-fresh40 runs (a researcher, an HD-map engineer, a dispatcher's texts,
+        # a driving-school lesson in the second person)
+        (
+            "I am interested in the moments when the ego vehicle is making a left turn.",
+            "the ego vehicle turning left",
+        ),
+        ("Identify vehicles that change lanes towards their right.", "vehicles changing lanes to the right"),
+        (
+            "Find vehicles that share a lane with the ego vehicle.",
+            "vehicles in the same lane as the ego vehicle",
+        ),
+        (
+            "Find vehicles that change lanes while another vehicle is on their left within five metres.",
+            "vehicles changing lanes with another vehicle on their left within 5 m",
+        ),
+        (
+            "vehicles turning right more than 5 m away from any intersection",
+            "vehicles turning right more than 5 m from an intersection",
+        ),
+        ("vulnerable road users on an intersection lane segment", "vulnerable road users on an intersection"),
+        (
+            "anybody merging over to the right lane? vehicles changing lanes right",
+            "vehicles changing lanes to the right",
+        ),
+        (
+            "oncoming traffic for the ego - vehicles going the opposite way",
+            "vehicles going in the opposite direction",
+        ),
+        ("is the ego ever stopped?", "the ego vehicle stopped"),
+        (
+            "peds out in the road but not at a crosswalk. jaywalkers basically",
+            "pedestrians on the road but not at a crosswalk",
+        ),
+        (
+            "ego got anyone on its tail? vehicle behind within 10m",
+            "the ego vehicle with a vehicle behind it within 10 m",
+        ),
+        (
+            "you are making a left turn through an intersection",
+            "the ego vehicle turning left on an intersection",
+        ),
+        (
+            "parked vehicles on your right within 10 metres",
+            "parked vehicles on the right of the ego vehicle within 10 m",
+        ),
+        ("a vehicle overtaking you on your left", "a vehicle overtaking the ego vehicle on its left"),
+        (
+            "you have at least two pedestrians ahead of you",
+            "the ego vehicle with at least 2 pedestrians ahead of it",
+        ),
+        (
+            "vehicles turning right somewhere ahead of you",
+            "vehicles turning right and ahead of the ego vehicle",
+        ),
+        (
+            "you are driving past parked cars less than 3 metres to your right",
+            "the ego vehicle moving with parked cars on its right within 3 m",
+        ),
         # from the spent fresh33 run (a safety driver's end-of-shift report)
         (
             "I saw a few pedestrians walking out on the road itself instead of the sidewalk",
@@ -482,3 +540,12 @@ def test_a_crossing_within_a_distance_limits_how_far_ahead_of_the_bumper() -> No
     assert _referred("pedestrians crossing in front of the ego vehicle within 10 m") == set()
     assert _referred("pedestrians crossing in front of the ego vehicle within 20 m") == {"ped"}
     assert _referred("pedestrians crossing in front of a car within 5 m") == {"ped"}
+
+
+def test_a_past_tense_verb_after_a_negation_or_a_perfect_stays_as_it_is() -> None:
+    from scenariominer.mine.plan_narrative import present_tense
+
+    assert present_tense("cars that never moved an inch") == "cars that never moved an inch"
+    assert present_tense("object that has not moved") == "object that has not moved"
+    assert present_tense("cars turned left") == "cars turning left"
+    assert present_tense("vehicles passed on their left by a bus") == "vehicles passed on their left by a bus"

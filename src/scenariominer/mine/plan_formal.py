@@ -30,6 +30,49 @@ _TURN = r"(?:a turning maneuver|a turn|a (?:left|right) turn)"
 #: (pattern, replacement), applied in order to the lower-cased text.
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\bwhilst\b"), "while"),
+    # a researcher's requests: "I would like to observe ...", "I am interested in the moments when ..."
+    (re.compile(r"^(?:i would like to|i'd like to|i want to|we want to|we would like to) (?:observe"
+                    r"|see|find|identify"
+                r"|study|examine|look at) "), ""),
+    (re.compile(r"^to (?:observe|see|find|identify|study|examine) "), ""),
+    (re.compile(r"^i am interested in (?:the )?(?:moments|times|instants|cases|situations) (?:when"
+                    r"|where|in which) "), ""),
+    (re.compile(r", that is, .*$"), ""),
+    (re.compile(r"\b(chang(?:e|es|ing) lanes) towards? (?:their|its|the) (left|right)\b"), r"\1 to the \2"),
+    (re.compile(r"\b(?:that|which) (?:have|has) been (?:placed |left |put |set )?(?=on |in |at |near )"), ""),
+    (re.compile(r"\b(directly (?:behind|ahead of|in front of) (?:them|it)),? within a lane'?s width"
+                    r" of (?:their|its)"
+                r" path,? (?:at a distance of )?(\S+) (?:metres|meters|m) or less\b"), r"\1 within \2 m"),
+    (re.compile(r"\b(?:that|which) (?:share|shares) (?:a|the same) lane with\b"), "in the same lane as"),
+    (re.compile(r"\bnot actually\b"), "not"),
+    (re.compile(r"\bwhose (?:sideways|lateral) acceleration toward (?:their|its) (left|right) exceeds\b"),
+     r"with a lateral acceleration toward the \1 of more than"),
+    (re.compile(r"\bwith more than (\S+ ?m/s(?:²|\^2)) of (left|right)ward lateral acceleration\b"),
+     r"with a \2ward lateral acceleration of more than \1"),
+    (re.compile(r"\b(followed by [\w ]+?) in (?:its|their) (?:own )?lane\b"), r"\1"),
+    (re.compile(r"\b(?:that|which) (the ego(?: vehicle)?) is following in (?:its|their) (?:own"
+                    r" )?lane\b"), r"that \1 is following"),
+    (re.compile(r"\bwhile (?:remaining|staying|keeping) (?=within)"), ""),
+    (re.compile(r"\b(parked|stationary) (?:for|during|throughout) the (?:entire|whole) (?:recording"
+                    r"|log|sequence|scene)\b"),
+     r"\1"),
+    (re.compile(r"\b(?:that|which) (?:are|is) (?:stationary|parked|at rest) (?:for|during"
+                    r"|throughout) the (?:entire"
+                r"|whole) (?:recording|log|sequence|scenario|scene)\b"), "which are parked"),
+    (re.compile(r"\bwhile (another|an?) ([\w ]+?) (?:is|are) (on (?:their|its|the) (?:left|right))"
+                    r" (within \S+"
+                r" (?:m|metres|meters))\b"), r"with \1 \2 \3 \4"),
+    (re.compile(r"\bthe mapped drivable area\b"), "the drivable area"),
+    (re.compile(r"\bwhose (?:bounding )?box(?:es)? overlaps? (?:the area of )?(?:an? |the"
+                    r" )?(?:mapped |marked )?"
+                r"(?:pedestrian crossing|crosswalk)s?(?: polygons?)?\b"), "on a crosswalk"),
+    (re.compile(r"\b(?:moving|pulling|shifting|merging|moves|moved) (?:over )?into the"
+                    r" (?:neighbou?ring|adjacent|next)"
+                r" lane on (?:their|its) (left|right)\b"), r"changing lanes to the \1"),
+    (re.compile(r"(?:,? while (?:its|their) (?:centre|center) is|,? while)? on an? intersection"
+                    r" lane segments?\b"),
+     " on an intersection"),
+    (re.compile(r"\b(?:ordinary|normal|standard) passenger (vehicles?|cars?)\b"), r"regular \1"),
     (re.compile(r"\bupon\b"), "on"),
     (re.compile(r"\bmanoeuvres?\b"), "maneuver"),
     # definitions between commas: ", defined as objects of the bus category,", ", being fixed posts

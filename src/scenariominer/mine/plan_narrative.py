@@ -67,6 +67,7 @@ _ACTION = re.compile(
 #: A past-tense verb that is no passive ("is crossed", "being passed by", "got overtaken").
 _ANY_PAST = re.compile(
     rf"(?<!\bbeing )(?<!\bbe )(?<!\bis )(?<!\bare )(?<!\bget )(?<!\bgot )(?<!\bgets )(?<!\bgetting )"
+    rf"(?<!\bnever )(?<!\bnot )(?<!n't )(?<!\bhas )(?<!\bhave )(?<!\bhad )"
     rf"\b(?P<verb>{_PAST})\b(?!(?: on (?:its|their|the) (?:left|right)(?: side)?| from behind)? by\b)"
 )
 #: "was" / "were" before a place, a state or a verb's -ing form: a road user's state ("a car was
@@ -129,13 +130,44 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
      r"near \1 \2 who is at a crosswalk"),
     (re.compile(r"\b(?:coming|driving|heading) (?:at|toward|towards) (?:us|the ego vehicle) the"
                     r" other way\b"), ""),
-    (re.compile(r"\bin the same direction (?:that |as )?we (?:were|are) (?:driving|going"
+    (re.compile(r"\bin the same direction (?:that |as )?(?:we|you) (?:were|are) (?:driving|going"
                     r"|travell?ing|moving|heading)\b"),
      "in the same direction as the ego vehicle"),
     (re.compile(r"\b(that|which|who) (?:were|was) not\b"), r"\1 are not"),
     (re.compile(r"\b(that|which|who) (?:weren't|wasn't)\b"), r"\1 are not"),
     (re.compile(r"^we had (?=(?:at least|an?|some|\d))"), "the ego vehicle with "),
     (re.compile(r"\bwhen we had (?=(?:at least|an?|some|\d))"), "the ego vehicle with "),
+    # the second person of a lesson: "you" are the ego vehicle ("you are making a left turn",
+    # "vehicles on your right", "a vehicle overtaking you")
+    (re.compile(r"\byou're\b"), "you are"),
+    (re.compile(r"\b(?:driving|going|passing) past ((?:[\w-]+ )?[\w-]+s) (?:less than|under|within)"
+                    r" (\d+(?:\.\d+)?"
+                r" ?(?:m|metres?|meters?)) to (?:your|its|their|the) (left"
+                r"|right)\b"), r"moving with \1 on its \3 within \2"),
+    (re.compile(r"\b(turning|changing lanes to the) (left|right) somewhere (ahead|in front"
+                    r"|behind)"), r"\1 \2 and \3"),
+    (re.compile(r"\bdriving behind (another|an?) (\w+) that leads (?:you|us|it)(?: in (?:your|our"
+                    r"|its|the same) lane)?"),
+     r"following \1 \2"),
+    (re.compile(r"\bin a lane that (another|an?) ([\w ]+?) also occupies\b"), r"in the same lane as \1 \2"),
+    (re.compile(r"^you share (?:your|a|the same) lane with\b"), "the ego vehicle in the same lane as"),
+    (re.compile(r"^you (?:have|had) (?=(?:at least|an?|some|\d|one|two|three))"), "the ego vehicle with "),
+    (re.compile(r"^you (?:have|had) (?:come|came) to an? (?:stop|halt"
+                    r"|standstill)\b"), "the ego vehicle stopped"),
+    (re.compile(r"^you (?:are |were |have been )?"), "the ego vehicle "),
+    (re.compile(r",? as you approach(?:ed)? (an?|the) (intersection|junction"
+                    r"|crosswalk)"), r" approaching \1 \2"),
+    (re.compile(r",? before (?:entering|reaching) it$"), " but not on it"),
+    (re.compile(r"\b(?:while|when|as) you (?:are|were) "), "while the ego vehicle is "),
+    (re.compile(r"\b(?:in|within) your (?:own )?lane\b"), "in the same lane as the ego vehicle"),
+    (re.compile(r"\byou on your (left|right)\b"), r"the ego vehicle on its \1"),
+    (re.compile(r"\b(on|to) your (left|right)\b"), r"\1 the \2 of the ego vehicle"),
+    (re.compile(r"\bgoing your way\b"), "travelling in the same direction as the ego vehicle"),
+    (re.compile(r"\byour side of the road\b"), "the same side of the road as the ego vehicle"),
+    (re.compile(r"\byour (direction of travel|path|heading)\b"), r"the ego vehicle's \1"),
+    (re.compile(r"\byour\b"), "the ego vehicle's"),
+    (re.compile(r"(?<!could )(?<!can )(?<!would )(?<!will )\byou\b"), "the ego vehicle"),
+    (re.compile(r"\b(\w+s) left (?=off |outside |not on )"), r"\1 "),
     # the first person: "we", "our car", "our lane", "on our left"
     (re.compile(r"^we (?:were |are |was )?"), "the ego vehicle "),
     (re.compile(r"\bour (?:own )?(?:car|vehicle|av)\b"), "the ego vehicle"),

@@ -91,6 +91,46 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], 
     (re.compile(r"\b(within \d+(?:\.\d+)? ?m) (ahead|in front)(?: of (?:it|them))? in an? (?:one|1"
                     r"|single)[- ]lane"
                 r"(?:[- ]wide)? corridor\b"), r"directly \2 \1"),
+    # a dispatcher's texts: "how many parked cars we got on this one", "when's the ego ...", "is the
+    # ego ever stopped?", "slamming the brakes", "jaywalkers basically", "sketchy ones", "thru"
+    (re.compile(r"^how many "), ""),
+    (re.compile(r" (?:do |did )?we (?:got|get|have|had|see|saw)(?: on| in)? (?:this|the) (?:one|log"
+                    r"|drive|run|clip)$"), ""),
+    (re.compile(r"^(?:when's|when is|when does|when do|where's|where is) "), ""),
+    (re.compile(r"^(?:is|are|was|were|does|do|did) (the ego(?: vehicle)?|ego|any \w+|\w+s) ever "), r"\1 "),
+    (re.compile(r"\b(?:stuck|just) (?=following|behind|sitting)"), ""),
+    (re.compile(r"\bslamm(?:ing|ed|s)? (?:on )?the brakes?,? (?:decel(?:eration)?|braking) (?:worse"
+                    r"|harder|stronger|more)"
+                r" than\b"), "braking at more than"),
+    (re.compile(r"\bslamm(?:ing|ed|s)? (?:on )?the brakes?\b"), "braking hard"),
+    (re.compile(r"\.? (?:\w+ )?basically$"), ""),
+    (re.compile(r",? (?:the )?(?:sketchy|risky|scary|interesting|weird|dangerous|fun) ones$"), ""),
+    (re.compile(r"\boff to (its|their|the) (left|right)\b"), r"on \1 \2"),
+    (re.compile(r"\bacross the (?:street|road) from (the ego(?: vehicle)?|ego|us)\b,?(?: on the"
+                    r" other side of the road)?"),
+     r"on the other side of the road from \1"),
+    (re.compile(r",? lat(?:eral)?\.? ?acc(?:el(?:eration)?)?\.? (\d+(?:\.\d+)? ?m/s(?:²|\^?2)) or"
+                    r" (?:more|higher|above)\b"),
+     r" with a lateral acceleration of at least \1"),
+    (re.compile(r"\bthru\b"), "through"),
+    (re.compile(r"\b(?:through|during|in) an? (left|right) turn\b"), r"while turning \1"),
+    (re.compile(r"\bhanging around (?=near|by|next to|at)"), ""),
+    (re.compile(r"\b(?:sitting still,? )?parked or (?:just |momentarily |briefly )?stopped\b"), "stopped"),
+    (re.compile(r"\b(?:that|which) (?:get|gets|got|have|has) (an? \w+) (?:walking|running) across"
+                    r" in front of (them|it)\b"),
+     r"with \1 crossing in front of \2"),
+    (re.compile(r"\b(anything|anyone|anybody) at all\b"), r"\1"),
+    (re.compile(r"\boff the actual road\b"), "not on the road"),
+    (re.compile(r" - (?:parking lots?|driveways?|lots?)(?:,? (?:or |and )?(?:parking lots?"
+                    r"|driveways?|lots?))*$"), ""),
+    (re.compile(r"\b(?:got|has|have) (?:anyone|anybody|someone|somebody) on (?:its|their) tail\??"
+                    r" (?:an? )?vehicles?"
+                r" behind (within \d+(?:\.\d+)? ?m)\b"), r"with a vehicle behind it \1"),
+    (re.compile(r"\banything motori[sz]ed\b"), "vehicles"),
+    (re.compile(r"\b(going straight),? \(?no turns?\)?"), r"\1"),
+    (re.compile(r"\b(?:hustling|hurrying|rushing)\b"), "moving"),
+    (re.compile(r",? (?:sidewalk|pavement) riders$"), ""),
+    (re.compile(r"\bon the move\b"), "moving"),
     # "groups of pedestrians, at least 2 other pedestrians within 3 m": those with that many nearby
     (re.compile(rf"^(?:groups?|clusters?|crowds?|bunches?) of ({CATEGORY_RE})(?:,| with| having)? "
                 r"(?=at least \d|\d+ or more|more than \d)"), r"\1 with "),
@@ -138,6 +178,7 @@ def plain_notes(text: str) -> str:
     """
     for pattern, replacement in _SHORTHAND:
         text = pattern.sub(replacement, text)
+    text = _restated(text)
     number_of = _NUMBER_OF.match(text)
     if number_of is not None:
         least = int(number_of["n"]) + (0 if number_of["op"] in (">=", "≥", "at least") else 1)
@@ -162,6 +203,23 @@ def plain_notes(text: str) -> str:
     for part in parts[1:]:
         joined += _joined_part(part, subject["noun"])
     return joined
+
+
+def _restated(text: str) -> str:
+    """A question or a label followed by its plain restatement: the restatement.
+
+    "anybody merging over to the right lane? vehicles changing lanes right" -> "vehicles changing
+    lanes right"; "oncoming traffic for the ego - vehicles going the opposite way" -> "vehicles going
+    the opposite way". Only when the part after names a road user first.
+    """
+    if "(" in text:
+        return text
+    for mark in ("? ", " - "):
+        before, found, after = text.rpartition(mark)
+        head = SUBJECT.match(after)
+        if found and before and head is not None and after[head.end() :].strip():
+            return after
+    return text
 
 
 def _joined_part(part: str, subject_noun: str) -> str:

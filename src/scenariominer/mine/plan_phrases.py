@@ -692,6 +692,10 @@ PHRASES: tuple[Phrase, ...] = (
         r"(?: or (?:a |the )?(?:parking (?:lot|area|garage)|car park|driveway)s?)?",
         "parking lot",
     ),
+    Phrase(
+        r"(?P<neg>more than) " + _DIST + r" (?:away )?from (?:any |an |the |a )?(?:intersection|junction)s?",
+        "near_intersection", "threshold={dist}",
+    ),
     Phrase(r"(?P<neg>not (?:near|close to|at)|away from|far from) " + _INTERSECTION, "near_intersection"),
     Phrase(_NEAR + " " + _INTERSECTION, "near_intersection"),
     Phrase(
