@@ -97,22 +97,22 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\bslow downing\b"), "slowing down"),
     (re.compile(r"\bswerveing\b"), "swerving"),
     (re.compile(r"\b(?:hop(?:ped|s|ping)?|jump(?:ed|s|ing)?|slid(?:e|es|ing)?|drift(?:ed|s|ing)?"
-                    r"|duck(?:ed|s|ing)?)"
+                r"|duck(?:ed|s|ing)?)"
                 r" (?:over )?(?:in)?to the (?:lane|one) (?:on|to) (?:its|their|the) (left|right)\b"),
      r"changing lanes to the \1"),
     (re.compile(r"\bjerk(?:ed|s|ing)? sideways(?: to(?:wards?)? (?:its|their|the) (left"
-                    r"|right))?"), r"swerving \1"),
+                r"|right))?"), r"swerving \1"),
     (re.compile(r"\b(?:squeez(?:ed|ing|es?)|nudg(?:ed|ing|es?)) (?:by|past|through)\b"), "passing"),
     (re.compile(r"\b(stopped|parked|standing|sitting|waiting) right (?=on |in |at )"), r"\1 "),
     (re.compile(r"\bright through\b"), "through"),
     (re.compile(r"(?<!pass )(?<!passing )(?<!passes )\bthrough the middle of (an?|the)"
-                    r" (intersection|junction)\b"),
+                r" (intersection|junction)\b"),
      r"on \1 \2"),
     (re.compile(r"\bup ahead\b"), "ahead"),
     (re.compile(r"\bout (?=in front of|ahead|in the)"), ""),
     (re.compile(r"\bover (?=on the)"), ""),
     (re.compile(r"\b(?:hanging|standing|milling|gathered|loitering) (?:around|about|near) (?:it"
-                    r"|them)\b"), "nearby"),
+                r"|them)\b"), "nearby"),
     (re.compile(r",? instead of (?:on )?(?:the |a )?(?:sidewalk|pavement|footpath)s?\b"), ""),
     (re.compile(r"\b(road|street|lane) itself\b"), r"\1"),
     (re.compile(r"\b(?:and )?left standing\b"), ""),
@@ -124,14 +124,14 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\bfollowing behind\b"), "following"),
     (re.compile(r"\bpassing (?=within \d)"), ""),
     (re.compile(r"\bbut not on (?:an actual|a real|any|an?) (?:mapped )?(?:road"
-                    r" )?lane\b"), "and not on the road"),
+                r" )?lane\b"), "and not on the road"),
     (re.compile(r",? (?:like|such as) (?:[\w-]+s(?:,| and| or)? ?)+$"), ""),
     (re.compile(r"\bwhile (an?|another) (\w+) (?:was|were|is|are) (?:on|at) (?:the|a) crosswalk nearby\b"),
      r"near \1 \2 who is at a crosswalk"),
     (re.compile(r"\b(?:coming|driving|heading) (?:at|toward|towards) (?:us|the ego vehicle) the"
-                    r" other way\b"), ""),
+                r" other way\b"), ""),
     (re.compile(r"\bin the same direction (?:that |as )?(?:we|you) (?:were|are) (?:driving|going"
-                    r"|travell?ing|moving|heading)\b"),
+                r"|travell?ing|moving|heading)\b"),
      "in the same direction as the ego vehicle"),
     (re.compile(r"\b(that|which|who) (?:were|was) not\b"), r"\1 are not"),
     (re.compile(r"\b(that|which|who) (?:weren't|wasn't)\b"), r"\1 are not"),
@@ -141,22 +141,22 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # "vehicles on your right", "a vehicle overtaking you")
     (re.compile(r"\byou're\b"), "you are"),
     (re.compile(r"\b(?:driving|going|passing) past ((?:[\w-]+ )?[\w-]+s) (?:less than|under|within)"
-                    r" (\d+(?:\.\d+)?"
+                r" (\d+(?:\.\d+)?"
                 r" ?(?:m|metres?|meters?)) to (?:your|its|their|the) (left"
                 r"|right)\b"), r"moving with \1 on its \3 within \2"),
     (re.compile(r"\b(turning|changing lanes to the) (left|right) somewhere (ahead|in front"
-                    r"|behind)"), r"\1 \2 and \3"),
+                r"|behind)"), r"\1 \2 and \3"),
     (re.compile(r"\bdriving behind (another|an?) (\w+) that leads (?:you|us|it)(?: in (?:your|our"
-                    r"|its|the same) lane)?"),
+                r"|its|the same) lane)?"),
      r"following \1 \2"),
     (re.compile(r"\bin a lane that (another|an?) ([\w ]+?) also occupies\b"), r"in the same lane as \1 \2"),
     (re.compile(r"^you share (?:your|a|the same) lane with\b"), "the ego vehicle in the same lane as"),
     (re.compile(r"^you (?:have|had) (?=(?:at least|an?|some|\d|one|two|three))"), "the ego vehicle with "),
     (re.compile(r"^you (?:have|had) (?:come|came) to an? (?:stop|halt"
-                    r"|standstill)\b"), "the ego vehicle stopped"),
+                r"|standstill)\b"), "the ego vehicle stopped"),
     (re.compile(r"^you (?:are |were |have been )?"), "the ego vehicle "),
     (re.compile(r",? as you approach(?:ed)? (an?|the) (intersection|junction"
-                    r"|crosswalk)"), r" approaching \1 \2"),
+                r"|crosswalk)"), r" approaching \1 \2"),
     (re.compile(r",? before (?:entering|reaching) it$"), " but not on it"),
     (re.compile(r"\b(?:while|when|as) you (?:are|were) "), "while the ego vehicle is "),
     (re.compile(r"\b(?:in|within) your (?:own )?lane\b"), "in the same lane as the ego vehicle"),

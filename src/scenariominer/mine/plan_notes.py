@@ -67,16 +67,19 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], 
     (re.compile(r"\bannotated (?=objects?\b|tracks?\b|agents?\b)"), ""),
     (re.compile(r"\b(?:semi[- ])?tractor units?\b(?= ?\))"), "truck cabs"),
     (re.compile(r" in the (?:scene|log|recording|sequence|scenario)$"), ""),
-    (re.compile(r"\b(?:which|that) (?:remain|remains|stay|stays) (?:stationary|parked|at rest|put|still)"
-                r" (?:for|during|throughout) the (?:entire|whole) (?:recording|log|sequence"
-                r"|scenario|scene)\b"),
-     "which are parked"),
+    (
+        re.compile(
+            r"\b(?:which|that) (?:are|is|remain|remains|stay|stays) (?:stationary|parked|at rest|put|still)"
+            r" (?:for|during|throughout) the (?:entire|whole) (?:recording|log|sequence|scenario|scene)\b"
+        ),
+        "which are parked",
+    ),
     (re.compile(r"\b(?:momentarily |briefly )?held at (?=under|below|less than)"), ""),
     (re.compile(r"\b(?:executing|performing|making|doing|undertaking) a lane change (?:in)?to"
-                    r" (?:the )?(left|right)"
+                r" (?:the )?(left|right)"
                 r"(?:-hand| hand)?(?: lane)?\b"), r"changing lanes to the \1"),
     (re.compile(r"\boff (its|their) (left|right) side (within \d+(?:\.\d+)? ?m) and (?:at most"
-                    r"|within) (?:1|one) m"
+                r"|within) (?:1|one) m"
                 r"(?:etres?|eters?)? ahead of or behind (?:its|their) box\b"), r"directly on \1 \2 \3"),
     (re.compile(r"\b(?:off|along|down) (its|their|the) (left|right) (?:flank|side)\b"), r"on \1 \2"),
     (re.compile(r",? passing (?:from )?(?:back|rear) to front\b"), ""),
@@ -89,42 +92,41 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], 
     (re.compile(r"\bsharing (?:the )?ego(?: vehicle)?'s lane\b"), "in the same lane as the ego vehicle"),
     (re.compile(r"\bon (?:an? |the |any )?(?:mapped (?:road )?|road )lanes?\b"), "on the road"),
     (re.compile(r"\b(within \d+(?:\.\d+)? ?m) (ahead|in front)(?: of (?:it|them))? in an? (?:one|1"
-                    r"|single)[- ]lane"
+                r"|single)[- ]lane"
                 r"(?:[- ]wide)? corridor\b"), r"directly \2 \1"),
     # a dispatcher's texts: "how many parked cars we got on this one", "when's the ego ...", "is the
     # ego ever stopped?", "slamming the brakes", "jaywalkers basically", "sketchy ones", "thru"
     (re.compile(r"^how many "), ""),
     (re.compile(r" (?:do |did )?we (?:got|get|have|had|see|saw)(?: on| in)? (?:this|the) (?:one|log"
-                    r"|drive|run|clip)$"), ""),
+                r"|drive|run|clip)$"), ""),
     (re.compile(r"^(?:when's|when is|when does|when do|where's|where is) "), ""),
     (re.compile(r"^(?:is|are|was|were|does|do|did) (the ego(?: vehicle)?|ego|any \w+|\w+s) ever "), r"\1 "),
     (re.compile(r"\b(?:stuck|just) (?=following|behind|sitting)"), ""),
     (re.compile(r"\bslamm(?:ing|ed|s)? (?:on )?the brakes?,? (?:decel(?:eration)?|braking) (?:worse"
-                    r"|harder|stronger|more)"
+                r"|harder|stronger|more)"
                 r" than\b"), "braking at more than"),
-    (re.compile(r"\bslamm(?:ing|ed|s)? (?:on )?the brakes?\b"), "braking hard"),
     (re.compile(r"\.? (?:\w+ )?basically$"), ""),
     (re.compile(r",? (?:the )?(?:sketchy|risky|scary|interesting|weird|dangerous|fun) ones$"), ""),
     (re.compile(r"\boff to (its|their|the) (left|right)\b"), r"on \1 \2"),
     (re.compile(r"\bacross the (?:street|road) from (the ego(?: vehicle)?|ego|us)\b,?(?: on the"
-                    r" other side of the road)?"),
+                r" other side of the road)?"),
      r"on the other side of the road from \1"),
     (re.compile(r",? lat(?:eral)?\.? ?acc(?:el(?:eration)?)?\.? (\d+(?:\.\d+)? ?m/s(?:²|\^?2)) or"
-                    r" (?:more|higher|above)\b"),
+                r" (?:more|higher|above)\b"),
      r" with a lateral acceleration of at least \1"),
     (re.compile(r"\bthru\b"), "through"),
     (re.compile(r"\b(?:through|during|in) an? (left|right) turn\b"), r"while turning \1"),
     (re.compile(r"\bhanging around (?=near|by|next to|at)"), ""),
     (re.compile(r"\b(?:sitting still,? )?parked or (?:just |momentarily |briefly )?stopped\b"), "stopped"),
     (re.compile(r"\b(?:that|which) (?:get|gets|got|have|has) (an? \w+) (?:walking|running) across"
-                    r" in front of (them|it)\b"),
+                r" in front of (them|it)\b"),
      r"with \1 crossing in front of \2"),
     (re.compile(r"\b(anything|anyone|anybody) at all\b"), r"\1"),
     (re.compile(r"\boff the actual road\b"), "not on the road"),
     (re.compile(r" - (?:parking lots?|driveways?|lots?)(?:,? (?:or |and )?(?:parking lots?"
-                    r"|driveways?|lots?))*$"), ""),
+                r"|driveways?|lots?))*$"), ""),
     (re.compile(r"\b(?:got|has|have) (?:anyone|anybody|someone|somebody) on (?:its|their) tail\??"
-                    r" (?:an? )?vehicles?"
+                r" (?:an? )?vehicles?"
                 r" behind (within \d+(?:\.\d+)? ?m)\b"), r"with a vehicle behind it \1"),
     (re.compile(r"\banything motori[sz]ed\b"), "vehicles"),
     (re.compile(r"\b(going straight),? \(?no turns?\)?"), r"\1"),
