@@ -23,7 +23,8 @@ _D = r"\d+(?:\.\d+)? ?(?:m|metres?|meters?)(?![\w/])"
 #: Bounds in words: "not exceeding", "no more than", "no greater than", "a maximum of".
 _AT_MOST = r"(?:not exceeding|no (?:more|greater) than|not (?:more|greater) than|a maximum of|at most|up to)"
 _AT_LEAST = r"(?:no fewer than|not fewer than|no less than|not less than|a minimum of|at least)"
-_AT_MOST_D = r"within \d+(?:\.\d+)? ?(?:m|metres?|meters?)(?![\w/])"
+#: "within D" once the bound has been put in plain words.
+_WITHIN_D = rf"within {_D}"
 _SIDE = r"(left|right)(?:[- ]hand)?(?: side)?"
 _TURN = r"(?:a turning maneuver|a turn|a (?:left|right) turn)"
 
@@ -182,7 +183,7 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
                 r"|towards|at)\b"),
      "facing"),
     (re.compile(r"\bwhose heading points at\b"), "facing"),
-    (re.compile(rf",? where (?:the ego(?: vehicle)?|the \w+) is ({_AT_MOST_D}) of (?:the|that) [\w"
+    (re.compile(rf",? where (?:the ego(?: vehicle)?|the \w+) is ({_WITHIN_D}) of (?:the|that) [\w"
                 rf" ]+$"), r" \1"),
     (re.compile(r"\b(?:which are |that are )?moving so as to approach\b"), "heading toward"),
     (re.compile(r"\bwhose direction of travel is (perpendicular|opposite) to (?:the direction of travel"
@@ -192,11 +193,11 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\baccompanied by\b"), "with"),
     (re.compile(r"\bbeing passed along (?:their|its) " + _SIDE + r", from rear to front, by\b"),
      r"being overtaken on the \1 by"),
-    (re.compile(r" within \d+(?:\.\d+)? ?(?:m|metres?|meters?) of that side\b"), ""),
+    (re.compile(rf" {_WITHIN_D} of that side\b"), ""),
     (re.compile(rf"\bwhile (at least (?:\d+|one|two|three|four|five|six)|an?|one) (\w+) (?:is|are)"
-                rf" present ({_AT_MOST_D})"
+                rf" present ({_WITHIN_D})"
                 r"(?: of (?:it|them))?"), r"with \1 \2 \3"),
-    (re.compile(rf"\bduring which (?:at least one|an?) (\w+) is present ahead of the vehicle ({_AT_MOST_D})"),
+    (re.compile(rf"\bduring which (?:at least one|an?) (\w+) is present ahead of the vehicle ({_WITHIN_D})"),
      r"with a \1 ahead of it \2"),
     (re.compile(r"\bwith at least one other\b"), "with another"),
     (re.compile(r"\bwhich lie (within \S+ ?m) of\b"), r"\1 of"),
