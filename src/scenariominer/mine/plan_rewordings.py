@@ -560,6 +560,39 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         "vehicles braking hard",
     ),
+    # "turning left with an oncoming vehicle", "vehicles with a parked car": another road user with
+    # its own condition and no relation word is one close by (the bare "with X nearby"), the
+    # condition its own, not the subject's
+    (
+        re.compile(
+            rf"(?<!lane )(?<!road )\bwith (?P<np>(?:an? |some |other |another |\d+ )?(?:(?:{MODIFIER_RE}) )+"
+            rf"(?:{NOUN}))(?=$| and | while | when | whenever )"
+        ),
+        r"with \g<np> nearby",
+    ),
+    # "at most 2 m/s": a top speed, as "slower than"
+    (
+        re.compile(
+            rf"\b(?:moving |going |driving |travell?ing )?at most (\d+(?:\.\d+)?) ?({_SPEED_UNITS})(?![\w/])"
+        ),
+        r"moving slower than \1 \2",
+    ),
+    # "more than 20 m from the ego vehicle", "at least 20 m away from X": not within that distance
+    (
+        re.compile(
+            r"\b(?:more than|at least|over|farther than|further than|beyond) (\d+(?:\.\d+)?) ?"
+            r"(?:m|meters?|metres?) (?:away )?from\b(?! (?:any |an |the )?intersections?\b)"
+        ),
+        r"not within \1 m of",
+    ),
+    # "acceleration less than -3 m/s^2": braking harder than 3 m/s^2
+    (
+        re.compile(
+            r"\b(?:with (?:an? )?)?(?:longitudinal )?acceleration (?:less than|below|under|at most)"
+            r" -(\d+(?:\.\d+)?) ?(m/s(?:\^2|²|2)?)"
+        ),
+        r"braking harder than \1 m/s^2",
+    ),
     # "less than 10 m ahead": within 10 m (not "less than 10 m/s")
     (
         re.compile(

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 
+from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_learners import learner_wording
 from scenariominer.mine.plan_narrative import present_tense
@@ -92,9 +93,10 @@ _SEARCH_VERB = re.compile(
     r"|i'd like|we'd like|i'm looking for|we're looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
     r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any"
+    r"|tag|label|annotate|mark|flag|highlight|collect"
     r"|how often (?:do|does|is|are)(?: there)?|(?:when|where) (?:do|does|did|is|are)(?: there)?"
     r"|list every (?:time|moment|instance|case)(?: (?:that|when|where))?)"
-    r"(?: (?:all|every|any|the|an?))?(?: (?:instances?|cases?|examples?|occurrences?|situations?"
+    r"(?: (?:all|every|each|any|the|an?))?(?: (?:instances?|cases?|examples?|occurrences?|situations?"
     r"|scenarios?|scenes?|frames?|moments?|events?|clips?|times?)"
     r"(?: (?:of|where|with|in which|when|that))?)?\s+"
 )
@@ -204,7 +206,7 @@ def normalised_text(description: str) -> str:
     cars back from X".
     """
     text = " ".join(description.lower().split())
-    text = present_tense(_spec_lines(learner_wording(plain_notes(formal_wording(text)))))
+    text = present_tense(_spec_lines(learner_wording(plain_notes(formal_wording(filter_wording(text))))))
     # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
     text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
     text = " ".join(_listed_road_users(text).replace(",", " ").split()).rstrip(".!?")
