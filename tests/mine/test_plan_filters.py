@@ -73,6 +73,17 @@ def test_text_without_filter_syntax_is_unchanged(text: str) -> None:
             "the ego vehicle turning left with oncoming vehicles nearby",
         ),
         ("vehicles with a parked car", "vehicles with a parked car nearby"),
+        # a scenario catalogue's titles
+        (
+            "Cut-in from the left",
+            "vehicles changing lanes to the right and cutting in ahead of the ego vehicle",
+        ),
+        (
+            "Truck cut-in from right lane",
+            "trucks changing lanes to the left and cutting in ahead of the ego vehicle",
+        ),
+        ("Vehicle cut-in", "vehicles cutting in ahead of the ego vehicle"),
+        ("Lead vehicle braking", "vehicles braking while being followed by the ego vehicle"),
     ],
 )
 def test_wordings_met_before_the_hold_out(written: str, plain: str) -> None:
@@ -90,3 +101,9 @@ def test_a_filter_finds_what_its_plain_english_finds() -> None:
         SCENE, "pedestrians within 20 m of the ego vehicle"
     )
     assert rules_referred(SCENE, "category == PEDESTRIAN AND dist_to_ego < 20 m")
+
+
+def test_a_lead_vehicle_related_to_the_ego_in_words_is_read_as_written() -> None:
+    assert rules_program("lead vehicle in the ego's lane less than 20 m ahead") == rules_program(
+        "vehicle in the same lane as the ego vehicle within 20 m ahead"
+    )

@@ -570,6 +570,25 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         r"with \g<np> nearby",
     ),
+    # a catalogue's "Cut-in from the left": a vehicle moving into the lane ahead of the ego vehicle,
+    # from the left lane (a lane change to the right)
+    (re.compile(r"\bcutting-in\b"), "cutting in"),
+    (re.compile(r"^(?:an? |the )?cutting in\b"), "vehicles cutting in"),
+    (
+        re.compile(r"\bcutting in from (?:the |its |their )?(left|right)(?:[- ]hand)?(?: side| lane)?\b"),
+        lambda m: f"changing lanes to the {'right' if m[1] == 'left' else 'left'} and cutting in",
+    ),
+    (
+        re.compile(r"\bcutting in\b(?! (?:in front of|front of|ahead of|between|line)\b)"),
+        "cutting in ahead of the ego vehicle",
+    ),
+    # "lead vehicle ahead of the ego in its lane": the relation says which one it is
+    (re.compile(rf"^(?:the |a )?lead(?:ing)? (?=(?:{NOUN})(?![\w-])(?! (?:of|for)\b).*\bego\b)"), ""),
+    # "lead vehicle braking" (a catalogue title): the vehicle the ego vehicle follows
+    (
+        re.compile(rf"^(?:the |a )?lead(?:ing)? (?P<noun>{NOUN})(?![\w-])(?! (?:of|for)\b)(?!.*\bego\b)"),
+        r"\g<noun> being followed by the ego vehicle",
+    ),
     # "at most 2 m/s": a top speed, as "slower than"
     (
         re.compile(
