@@ -73,6 +73,21 @@ def test_text_without_filter_syntax_is_unchanged(text: str) -> None:
             "the ego vehicle turning left with oncoming vehicles nearby",
         ),
         ("vehicles with a parked car", "vehicles with a parked car nearby"),
+        # an annotator's exclusions
+        (
+            "Tag moving vehicles on the intersection; do not tag parked ones",
+            "moving vehicles on the intersection that are not parked",
+        ),
+        (
+            "Tag pedestrians on the crosswalk, excluding those standing still",
+            "pedestrians on the crosswalk that are not stationary",
+        ),
+        (
+            "Label vehicles turning left (exclude the ego vehicle)",
+            "vehicles turning left other than the ego vehicle",
+        ),
+        ("Mark cars but skip the parked ones", "cars that are not parked"),
+        ("Tag buses only while they are stopped", "buses that are stopped"),
         # a scenario catalogue's titles
         (
             "Cut-in from the left",

@@ -147,6 +147,7 @@ SPLITS: tuple[str, ...] = (
     "fresh38",
     "fresh39",
     "fresh40",
+    "fresh44",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.

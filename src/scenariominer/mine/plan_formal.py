@@ -31,6 +31,8 @@ _TURN = r"(?:a turning maneuver|a turn|a (?:left|right) turn)"
 #: (pattern, replacement), applied in order to the lower-cased text.
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\bwhilst\b"), "while"),
+    # "only while they are stopped", "but only when the ego is moving": the condition itself
+    (re.compile(r"(?:,\s*)?(?:\bbut )?\bonly (?=(?:while|when|whenever|if|during)\b)"), " "),
     # a researcher's requests: "I would like to observe ...", "I am interested in the moments when ..."
     (re.compile(r"^(?:i would like to|i'd like to|i want to|we want to|we would like to) (?:observe"
                 r"|see|find|identify"

@@ -589,6 +589,26 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         re.compile(rf"^(?:the |a )?lead(?:ing)? (?P<noun>{NOUN})(?![\w-])(?! (?:of|for)\b)(?!.*\bego\b)"),
         r"\g<noun> being followed by the ego vehicle",
     ),
+    # an annotator's exclusions: "..., excluding those standing still", "do not tag parked ones",
+    # "but skip the parked ones": the condition negated
+    (
+        re.compile(
+            r"\s*[,;]?\s*(?:but )?(?:excluding|except(?: for)?|not counting|apart from|leaving out|other than"
+            r"|(?:do not|don't) (?:tag|label|include|count|annotate|mark|select)|skip|ignore|omit)"
+            r" (?:the |any |all )?(?:ones |those )?(?:that are |which are |who are |that |which |who )?"
+            r"(?P<condition>parked|stopped|stationary|standing still|moving|turning(?: left| right)?)"
+            r"(?: ones)?(?=$|[,;.]| and )"
+        ),
+        lambda m: " that are not " + ("stationary" if m["condition"] == "standing still" else m["condition"]),
+    ),
+    (
+        re.compile(
+            r"\s*[,;]?\s*(?:but )?(?:excluding|except(?: for)?|not counting|apart from|leaving out"
+            r"|(?:do not|don't) (?:tag|label|include|count|annotate|mark|select)|exclude|skip|ignore|omit)"
+            r" (?:the )?ego(?: vehicle| car)?(?: itself)?(?=$|[,;.]| and )"
+        ),
+        " other than the ego vehicle",
+    ),
     # "at most 2 m/s": a top speed, as "slower than"
     (
         re.compile(
