@@ -1,8 +1,9 @@
 """Filter expressions (mine/plan_filters.py) and other wordings met before a hold-out, read by the rules.
 
-Written in session 22 from wordings of my own, before the fresh41-fresh44 runs were scored (those
-were scored with the code of the commit before these rules): a filter's syntax must build the
-program of its plain English, and text without filter syntax must come through unchanged.
+Written in session 22: first from wordings of my own, before the fresh41-fresh44 runs were scored
+(those were scored with the code of the commit before these rules), then from the spent fresh44
+run (a data scientist's filters, 0.357 clean): a filter's syntax must build the program of its
+plain English, and text without filter syntax must come through unchanged.
 """
 
 from __future__ import annotations
@@ -121,4 +122,87 @@ def test_a_filter_finds_what_its_plain_english_finds() -> None:
 def test_a_lead_vehicle_related_to_the_ego_in_words_is_read_as_written() -> None:
     assert rules_program("lead vehicle in the ego's lane less than 20 m ahead") == rules_program(
         "vehicle in the same lane as the ego vehicle within 20 m ahead"
+    )
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        ("vehicles WHERE speed > 15 m/s", "vehicles faster than 15 m/s"),
+        (
+            "category=REGULAR_VEHICLE AND accel_long <= -2 m/s^2 (hard braking)",
+            "cars braking harder than 2 m/s^2",
+        ),
+        ("BUS with accel_long >= 1 m/s^2", "buses accelerating more than 1 m/s^2"),
+        ("ego WHERE turn_dir == 'left'", "the ego vehicle turning left"),
+        ("REGULAR_VEHICLE where lane_change = right", "cars changing lanes to the right"),
+        ("bus | on_intersection == True", "buses on an intersection"),
+        ("vehicle WHERE following(lead = ego)", "vehicles following the ego vehicle"),
+        ("ego WHERE count(peds within 15 m) >= 3", "the ego vehicle with at least 3 pedestrians within 15 m"),
+        (
+            "ped WHERE n_other_peds(dist <= 2 m) >= 2  -- walking in a group",
+            "pedestrians with at least 2 other pedestrians within 2 m",
+        ),
+        (
+            "vehicles WHERE travel_dir relative_to(ego) == opposite  /* oncoming traffic */",
+            "vehicles travelling in the opposite direction to the ego vehicle",
+        ),
+        (
+            "vehicles WHERE dir_rel(ego) == perpendicular AND on_intersection",
+            "vehicles travelling perpendicular to the ego vehicle on an intersection",
+        ),
+        ("peds WHERE facing(ego), angle <= 30 deg", "pedestrians facing the ego vehicle within 30 degrees"),
+        ("vehicle WHERE crossed_by(pedestrian, side=front)", "vehicles being crossed by a pedestrian"),
+        (
+            "vehicles: parked for whole log AND NOT on_road (e.g. lots/driveways)",
+            "parked vehicles not on the road",
+        ),
+        (
+            "vehicles WHERE 5 m/s <= speed <= 10 m/s AND dist_to_intersection <= 10 m",
+            "vehicles moving between 5 and 10 m/s within 10 m of an intersection",
+        ),
+        (
+            "(TRUCK OR BOX_TRUCK) WHERE same_lane_as(ego)",
+            "trucks or box trucks in the same lane as the ego vehicle",
+        ),
+        ("vehicles WHERE lane_type == 'BUS'", "vehicles in a bus lane"),
+        (
+            "vehicles WHERE lat_accel >= 2 m/s^2 OR lat_accel <= -2 m/s^2",
+            "vehicles with a lateral acceleration of more than 2 m/s^2 in either direction",
+        ),
+        (
+            "vehicles located LEFT of ego, box_dist <= 5 m",
+            "vehicles to the left of the ego vehicle within 5 m",
+        ),
+        (
+            "vehicles WHERE another vehicle BEHIND within 10 m AND lateral <= 1 m (tailgated)",
+            "vehicles with another vehicle directly behind within 10 m",
+        ),
+        (
+            "ego WHERE vehicle on RIGHT side, box_dist <= 3 m, lateral <= 1 m",
+            "the ego vehicle with a vehicle directly on its right within 3 m",
+        ),
+        (
+            "ego WHERE ped IN direction=forward AND dist <= 30 m",
+            "the ego vehicle with a pedestrian ahead within 30 m",
+        ),
+        ("objects(category=ANY) WHERE box_dist_to_ego <= 2 m", "objects within 2 m of the ego vehicle"),
+        (
+            "PEDESTRIAN WHERE dist(box, crosswalk) == 0 m  -- i.e. on the crosswalk",
+            "pedestrians on a crosswalk",
+        ),
+        ("bicycles WHERE near(vehicle, dist <= 5 m)", "bicycles within 5 m of a vehicle"),
+        (
+            "vehicles near_intersection (<= 5 m) AND NOT turning",
+            "vehicles not turning near an intersection within 5 m",
+        ),
+    ],
+)
+def test_the_spent_fresh44_filters_build_the_program_of_their_plain_english(written: str, plain: str) -> None:
+    assert rules_program(written) == rules_program(plain)
+
+
+def test_a_stated_distance_to_an_intersection_sets_its_threshold() -> None:
+    assert "near_intersection(subject, log_dir, threshold=8)" in rules_program(
+        "vehicles near an intersection within 8 m"
     )

@@ -56,7 +56,7 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:that|which) (the ego(?: vehicle)?) is following in (?:its|their) (?:own"
                 r" )?lane\b"), r"that \1 is following"),
     (re.compile(r"\bwhile (?:remaining|staying|keeping) (?=within)"), ""),
-    (re.compile(r"\b(parked|stationary) (?:for|during|throughout) the (?:entire|whole) (?:recording"
+    (re.compile(r"\b(parked|stationary) (?:for|during|throughout) (?:the )?(?:entire|whole) (?:recording"
                 r"|log|sequence|scene)\b"),
      r"\1"),
     (re.compile(r"\bwhile (another|an?) ([\w ]+?) (?:is|are) (on (?:their|its|the) (?:left|right))"

@@ -632,6 +632,7 @@ PHRASES: tuple[Phrase, ...] = (
         "near_intersection", "threshold={dist}",
     ),
     Phrase(r"(?P<neg>not (?:near|close to|at)|away from|far from) " + _INTERSECTION, "near_intersection"),
+    Phrase(_NEAR + " " + _INTERSECTION + " within " + _DIST, "near_intersection", "threshold={dist}"),
     Phrase(_NEAR + " " + _INTERSECTION, "near_intersection"),
     Phrase(
         r"(?P<neg>(?:but )?(?:outside|not in|not inside|not on))(?: of)?(?: it| " + _INTERSECTION + ")", _ON_X

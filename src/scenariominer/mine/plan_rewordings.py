@@ -609,6 +609,37 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         " other than the ego vehicle",
     ),
+    # a news story's motion: "cars zipping past the robotaxi", "a car inching forward", "cruising"
+    (
+        re.compile(
+            r"\b(?:zipping|racing|speeding|whizzing|flying|tearing|darting|dashing|cruising|rolling|edging"
+            r"|inching|sliding|creeping|crawling) (?:past|by)\b(?= \w)"
+        ),
+        "passing",
+    ),
+    (re.compile(r"\b(?:inching|edging)(?: (?:forward|along|ahead))?\b"), "creeping"),
+    (re.compile(r"\bcruising\b"), "moving"),
+    # "a pedestrian stepping off the curb into the road": on the road
+    (
+        re.compile(
+            r"\b(?:stepping|walking|wandering|darting|dashing|running)"
+            r"(?: off the (?:curb|kerb|sidewalk|pavement))? (?:out )?(?:into|onto) the (?:road|street|roadway"
+            r"|traffic)\b"
+        ),
+        "on the road",
+    ),
+    # "a delivery truck parked by the curb": where a parked vehicle is
+    (
+        re.compile(
+            r"\b(parked|stopped|stationary|sitting|waiting) (?:by|at|along|next to|against|on) the"
+            r" (?:curb|kerb|curbside|kerbside|roadside|side of the (?:road|street))\b"
+        ),
+        r"\1",
+    ),
+    # "hits the brakes hard": hard braking; "waits patiently as a pedestrian crosses": while
+    (re.compile(r"\b(?:hitting|slamming(?: on)?|stomping on|jamming on) the brakes hard\b"), "braking hard"),
+    (re.compile(r" (?:patiently|quietly|calmly|carefully|casually|nervously|lazily|gently)\b"), ""),
+    (re.compile(r"\b(\w+ing) as (?=(?:an?|the|some|\d+) )"), r"\1 while "),
     # "at most 2 m/s": a top speed, as "slower than"
     (
         re.compile(

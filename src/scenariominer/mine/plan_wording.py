@@ -72,6 +72,23 @@ VERB_FORMS: dict[str, str] = {
     **{w: "tailgating" for w in ("tailgate", "tailgates")},
     **{w: "making" for w in ("make", "makes")},
     **{w: "taking" for w in ("take", "takes")},
+    # a news story's verbs
+    **{w: "walking" for w in ("stroll", "strolls")},
+    **{w: "stepping" for w in ("step", "steps")},
+    **{w: "darting" for w in ("dart", "darts")},
+    **{w: "dashing" for w in ("dash", "dashes")},
+    **{w: "jogging" for w in ("jog", "jogs")},
+    **{w: "creeping" for w in ("creep", "creeps")},
+    **{w: "crawling" for w in ("crawl", "crawls")},
+    **{w: "hitting" for w in ("hit", "hits")},
+    **{w: "slamming" for w in ("slam", "slams")},
+    **{w: "pulling" for w in ("pull", "pulls")},
+    **{w: "sitting" for w in ("sit", "sits")},
+    **{w: "squeezing" for w in ("squeeze", "squeezes")},
+    **{w: "zipping" for w in ("zip", "zips")},
+    **{w: "racing" for w in ("race", "races")},
+    **{w: "cruising" for w in ("cruise", "cruises")},
+    **{w: "rolling" for w in ("roll", "rolls")},
 }
 #: Words before which a verb form is a noun or an adjective instead ("a right *turn*", "*stop*
 #: sign", "the *brakes*", "a *slow* car").
