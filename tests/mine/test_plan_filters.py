@@ -155,7 +155,7 @@ def test_a_lead_vehicle_related_to_the_ego_in_words_is_read_as_written() -> None
         ("vehicle WHERE crossed_by(pedestrian, side=front)", "vehicles being crossed by a pedestrian"),
         (
             "vehicles: parked for whole log AND NOT on_road (e.g. lots/driveways)",
-            "parked vehicles not on the road",
+            "vehicles parked and not on road",
         ),
         (
             "vehicles WHERE 5 m/s <= speed <= 10 m/s AND dist_to_intersection <= 10 m",
