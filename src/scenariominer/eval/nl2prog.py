@@ -147,6 +147,7 @@ SPLITS: tuple[str, ...] = (
     "fresh38",
     "fresh39",
     "fresh40",
+    "fresh42",
     "fresh44",
 )
 
