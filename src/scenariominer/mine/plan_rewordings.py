@@ -265,7 +265,13 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         "closer than ",
     ),
     # "following the ego vehicle in the same lane as the ego vehicle": in the same lane
-    (re.compile(rf"\b(?P<np>{NP}) in (?:the )?same lane as (?P=np)(?![\w-])"), r"\g<np> in the same lane"),
+    # (not after "other than": "vehicles other than a bus in the same lane as a bus")
+    (
+        re.compile(
+            rf"(?<!than )(?<!except )(?<!excluding )\b(?P<np>{NP}) in (?:the )?same lane as (?P=np)(?![\w-])"
+        ),
+        r"\g<np> in the same lane",
+    ),
     # "within 2 m of a pedestrian crossing": the crosswalk, not a pedestrian crossing the road
     (
         re.compile(r"\b(of|at|near|on|to|by|in|from|approach(?:es|ing)?) (an?|the) pedestrian crossings?\b"),
@@ -640,6 +646,26 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (re.compile(r"\b(?:hitting|slamming(?: on)?|stomping on|jamming on) the brakes hard\b"), "braking hard"),
     (re.compile(r" (?:patiently|quietly|calmly|carefully|casually|nervously|lazily|gently)\b"), ""),
     (re.compile(r"\b(\w+ing) as (?=(?:an?|the|some|\d+) )"), r"\1 while "),
+    # "regular vehicles that never move during the whole sequence": parked
+    (
+        re.compile(
+            r"\b(?:that |which |who )?(?:never (?:move|moving)|(?:do|does) not (?:ever )?(?:move|moving))"
+            r"(?: at all)?(?: (?:during|throughout|for|in) the (?:whole|entire|full) \w+)?\b"
+        ),
+        "that are stationary",
+    ),
+    (re.compile(r"\bdirectly directly\b"), "directly"),
+    # "cornering or swerving hard to the right": swerving; "with lateral acceleration above 2 m/s²
+    # toward their right": rightward
+    (re.compile(r"\b(?:cornering|turning sharply) or (swerving)\b"), r"\1"),
+    (
+        re.compile(
+            r"\bwith (?:an? )?(?:lateral|sideways) acceleration"
+            r" (?:above|over|of more than|more than|exceeding) (\S+ ?m/s(?:²|\^2|2)?)"
+            r" (?:toward|towards|to) (?:their|its|the) (left|right)\b"
+        ),
+        r"with a \2ward lateral acceleration of more than \1",
+    ),
     # "at most 2 m/s": a top speed, as "slower than"
     (
         re.compile(

@@ -15,6 +15,7 @@ import re
 
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
+from scenariominer.mine.plan_instructions import instruction_wording
 from scenariominer.mine.plan_learners import learner_wording
 from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_notes import plain_notes
@@ -123,6 +124,7 @@ _LIST = re.compile(
     rf"(?P<conj>or|and)\s+(?P<last>(?:other\s+)?(?:{CATEGORY_RE}))(?![\w-])"
 )
 #: "heavy vehicles (trucks, box trucks or buses) ...": the road users in brackets name the subject.
+_BRACKETED_LIST = re.compile(rf"\((?P<items>(?:{CATEGORY_RE})(?:,\s*(?:{CATEGORY_RE}))+)\)")
 _BRACKETED_SUBJECT = re.compile(rf"^(?:an? |the |all )?[\w -]+?\s*\((?P<noun>{NOUN})\)")
 
 
@@ -138,6 +140,10 @@ def _listed_road_users(text: str) -> str:
             [m["head"], *(p.strip() for p in m["tail"].split(",") if p.strip()), m["last"]]
         ),
         text,
+    )
+    # "trucks of any kind (box trucks, trucks, truck cabs)": a bracketed list without "or"
+    text = _BRACKETED_LIST.sub(
+        lambda m: "(" + " or ".join(n.strip() for n in m["items"].split(",")) + ")", text
     )
     bracketed = _BRACKETED_SUBJECT.match(text)
     subject = SUBJECT.match(text)
@@ -223,14 +229,16 @@ def normalised_text(description: str) -> str:
     cars back from X".
     """
     text = " ".join(description.lower().split())
-    text = present_tense(_spec_lines(learner_wording(plain_notes(formal_wording(filter_wording(text))))))
+    text = present_tense(
+        _spec_lines(learner_wording(plain_notes(formal_wording(instruction_wording(filter_wording(text))))))
+    )
     # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
     text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
     text = " ".join(_listed_road_users(text).replace(",", " ").split()).rstrip(".!?")
     # "jaywalkers, i.e. pedestrians on the road ...": the definition after "i.e." when it names a
     # road user first
-    _, ie, definition = text.partition(" i.e. ")
-    if ie and SUBJECT.match(definition):
+    named, ie, definition = text.partition(" i.e. ")
+    if ie and SUBJECT.match(definition) and len(named.split()) <= 3:
         text = definition
     # examples after the description add nothing to read ("..., e.g. in a parking lot")
     text = re.sub(r"\s*\(?\b(?:e\.g\.?|i\.e\.?|for example|for instance|such as)(?:\s.*)?$", "", text)
@@ -254,9 +262,12 @@ def normalised_text(description: str) -> str:
     # feet as metres ("within 20 feet": 6.096 m)
     text = re.sub(r"\b(\d+(?:\.\d+)?) ?(?:feet|foot|ft)\b", lambda m: f"{_metres(m.group(1))} m", text)
     # "cross traffic: vehicles moving perpendicular to the ego": the definition after the colon
-    _, colon, definition = text.partition(": ")
+    named, colon, definition = text.partition(": ")
     if colon and SUBJECT.match(definition):
         text = definition
+    elif colon and (subject := SUBJECT.match(named)) and re.match(r"(?:ones|those) ", definition):
+        # "oncoming vehicles: ones travelling ...": the named road user, as defined
+        text = subject["noun"] + " " + definition.split(" ", 1)[1]
     text = re.sub(r"\bego-(vehicle|car)\b", r"ego \1", text)
     # "the AV('s)": the ego vehicle, the one name the rewordings below know it by
     text = re.sub(r"\b(?:the )?(?:av|adv|sdv)\b", "the ego vehicle", text)
