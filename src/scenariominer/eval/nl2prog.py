@@ -147,7 +147,9 @@ SPLITS: tuple[str, ...] = (
     "fresh38",
     "fresh39",
     "fresh40",
+    "fresh41",
     "fresh42",
+    "fresh43",
     "fresh44",
 )
 

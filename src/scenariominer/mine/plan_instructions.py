@@ -26,7 +26,13 @@ _TAG_NOTE = re.compile(
 _CLAUSE_BREAK = re.compile(r"\s*;\s*|(?<=\w)\.\s+")
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # the request verb, first (what follows names the subject)
-    (re.compile(r"^(?:please )?(?:tag|label|annotate|mark|flag|highlight)(?: (?:every|each|all|any))? "), ""),
+    (
+        re.compile(
+            r"^(?:please )?(?:tag|label|annotate|mark|flag|highlight)(?: (?:every|each|all|any))?"
+            r"(?: (?:frames?|moments?|times?|timestamps?|instances?|cases?) (?:in which|where|when|that))? "
+        ),
+        "",
+    ),
     # the frames a tag covers: the condition they state
     (
         re.compile(
@@ -97,12 +103,22 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
 #: A later clause that says what to include ("include people who never move as well as ...") or
 #: which frames to count: a note on the tag's extent, read from the first clause.
 _EXTENT_NOTE = re.compile(r"^(?:include|including|this includes|also include|count|only count)\b")
+#: A later clause that excludes a state ("do not tag parked ones"): kept, read as a negated condition
+#: (:mod:`scenariominer.mine.plan_rewordings`).
+_EXCLUSION = re.compile(
+    r"^(?:but )?(?:do not|don't) (?:tag|label|include|count|annotate|mark|select) (?:the |any |all )?"
+    r"(?:ones |those )?(?:that are |which are |who are )?(?:parked|stopped|stationary|standing still|moving"
+    r"|turning)"
+)
 
 
 def _scene_parts(text: str) -> str:
     """``text`` without the sentences and ';' clauses after the first that speak of the tag."""
     parts = _CLAUSE_BREAK.split(text)
-    kept = [parts[0], *(p for p in parts[1:] if not _TAG_NOTE.search(p) and not _EXTENT_NOTE.match(p))]
+    kept = [
+        parts[0],
+        *(p for p in parts[1:] if _EXCLUSION.match(p) or not (_TAG_NOTE.search(p) or _EXTENT_NOTE.match(p))),
+    ]
     if len(kept) == len(parts):
         return text
     return "; ".join(part.strip() for part in kept if part.strip())
