@@ -666,6 +666,37 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         r"with a \2ward lateral acceleration of more than \1",
     ),
+    # a catalogue's titles: "Ego acceleration event (above 1 m/s²)", "Vehicle swerve to the right
+    # (lateral acceleration below -2 m/s²)", "Pedestrian cluster - three or more other pedestrians
+    # within 5 m", "Straight-through vehicle", "Left-turning vehicle with a crosswalk pedestrian"
+    (
+        re.compile(
+            r"(?<!lateral )\bacceleration(?: events?)? (?:above|over|more than|of more than|exceeding)"
+            r" (\d+(?:\.\d+)?) ?m/s(?:²|\^2|2)"
+        ),
+        r"accelerating more than \1 m/s^2",
+    ),
+    (
+        re.compile(
+            r"\b(?:with )?(?:an? )?lateral acceleration (?:below|under|less than)"
+            r" -(\d+(?:\.\d+)?) ?m/s(?:²|\^2|2)?"
+        ),
+        r"with a rightward lateral acceleration of more than \1 m/s^2",
+    ),
+    (
+        re.compile(
+            rf"^(?P<np>{NP})(?: (?:cluster|group|crowd|event|case|scenario))? - "
+            r"(?=(?:\d+|at least|more than|an?|some) )"
+        ),
+        r"\g<np> with ",
+    ),
+    (re.compile(rf"^straight[- ]through (?P<noun>{NOUN})\b"), r"\g<noun> going straight"),
+    (re.compile(r"\bno turns?\b"), "not turning"),
+    (
+        re.compile(r"\bwith (?:an? )?(?:crosswalk|crossing) (pedestrian|ped)s? within (\d+(?:\.\d+)? ?m)\b"),
+        r"within \2 of a pedestrian who is at a crosswalk",
+    ),
+    (re.compile(r"\bon the (left|right)(?:[- ]hand)? side of\b"), r"to the \1 of"),
     # "at most 2 m/s": a top speed, as "slower than"
     (
         re.compile(
@@ -684,7 +715,8 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # "acceleration less than -3 m/s^2": braking harder than 3 m/s^2
     (
         re.compile(
-            r"\b(?:with (?:an? )?)?(?:longitudinal )?acceleration (?:less than|below|under|at most)"
+            r"(?<!lateral )\b(?:with (?:an? )?)?(?:longitudinal )?acceleration"
+            r" (?:less than|below|under|at most)"
             r" -(\d+(?:\.\d+)?) ?(m/s(?:\^2|²|2)?)"
         ),
         r"braking harder than \1 m/s^2",

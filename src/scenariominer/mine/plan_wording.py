@@ -18,6 +18,7 @@ from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_instructions import instruction_wording
 from scenariominer.mine.plan_learners import learner_wording
 from scenariominer.mine.plan_narrative import present_tense
+from scenariominer.mine.plan_news import news_wording
 from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
@@ -230,7 +231,11 @@ def normalised_text(description: str) -> str:
     """
     text = " ".join(description.lower().split())
     text = present_tense(
-        _spec_lines(learner_wording(plain_notes(formal_wording(instruction_wording(filter_wording(text))))))
+        _spec_lines(
+            learner_wording(
+                plain_notes(formal_wording(news_wording(instruction_wording(filter_wording(text)))))
+            )
+        )
     )
     # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
     text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
