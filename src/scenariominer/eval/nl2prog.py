@@ -151,6 +151,10 @@ SPLITS: tuple[str, ...] = (
     "fresh42",
     "fresh43",
     "fresh44",
+    "fresh45",
+    "fresh46",
+    "fresh47",
+    "fresh48",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
