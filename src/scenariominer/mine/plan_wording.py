@@ -21,6 +21,7 @@ from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_news import news_wording
 from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
+from scenariominer.mine.plan_registers import register_wording
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 
 __all__ = [
@@ -74,6 +75,7 @@ VERB_FORMS: dict[str, str] = {
     **{w: "tailgating" for w in ("tailgate", "tailgates")},
     **{w: "making" for w in ("make", "makes")},
     **{w: "taking" for w in ("take", "takes")},
+    **{w: "sharing" for w in ("share", "shares")},
     # a news story's verbs
     **{w: "walking" for w in ("stroll", "strolls")},
     **{w: "stepping" for w in ("step", "steps")},
@@ -126,7 +128,7 @@ _LIST = re.compile(
 )
 #: "heavy vehicles (trucks, box trucks or buses) ...": the road users in brackets name the subject.
 _BRACKETED_LIST = re.compile(rf"\((?P<items>(?:{CATEGORY_RE})(?:,\s*(?:{CATEGORY_RE}))+)\)")
-_BRACKETED_SUBJECT = re.compile(rf"^(?:an? |the |all )?[\w -]+?\s*\((?P<noun>{NOUN})\)")
+_BRACKETED_SUBJECT = re.compile(rf"^(?:an? |the |all )?(?:[\w-]+ ){{0,4}}[\w-]+\s*\((?P<noun>{NOUN})\)")
 
 
 def _listed_road_users(text: str) -> str:
@@ -233,7 +235,9 @@ def normalised_text(description: str) -> str:
     text = present_tense(
         _spec_lines(
             learner_wording(
-                plain_notes(formal_wording(news_wording(instruction_wording(filter_wording(text)))))
+                plain_notes(
+                    formal_wording(news_wording(register_wording(instruction_wording(filter_wording(text)))))
+                )
             )
         )
     )

@@ -1,0 +1,144 @@
+"""Four more registers, put in the form the phrase rules read.
+
+* a voice transcript: fillers ("um", "uh"), a self-correction ("ten no sorry twelve" -> "twelve"),
+  and a restatement after a filler ("oncoming traffic um vehicles travelling the opposite way");
+* a test specification in Given/When/Then lines: "Given a vehicle, when it shares a lane with a bus,
+  then select it" -> "a vehicle sharing a lane with a bus";
+* an exam question: "At which moments does the ego vehicle ...", "Excluding the ego, which vehicles
+  ...", "Which vehicles perform a lane change to the left?";
+* a traffic engineer's jargon: "executing a right-turn movement", "queued vehicles on an
+  intersection approach: stopped within ...", "whose path is crossed by", "non-motorised road
+  users", "the intersection box", a signal phase given as the reason ("waiting for the walk phase").
+
+:func:`register_wording` rewrites them before the rest of the normalisation
+(:mod:`scenariominer.mine.plan_wording`); each rewrite keeps the meaning.
+"""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["register_wording"]
+
+_FILLER = r"(?:um+|uh+|er+m?|hmm+|ah+)"
+_SPOKEN_NUMBER = (
+    r"(?:\d+(?:\.\d+)?|one|two|three|four|five|six|seven|eight|nine|ten|eleven|twelve|fifteen|twenty"
+    r"|twenty-five|thirty|forty|fifty|sixty|hundred)"
+)
+_CORRECTION = r"(?:no|sorry|no sorry|i mean|no wait|wait|wait no|actually|scratch that)"
+#: Road-user words that may begin a restatement after a filler.
+_RESTATED = r"(?:vehicles?|cars?|pedestrians?|people|trucks?|buses|bus|cyclists?|bicycles?|objects?|the ego)"
+_REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
+    # a voice transcript
+    (re.compile(rf"^.+? {_FILLER},? (?={_RESTATED}\b)"), ""),
+    (re.compile(rf"(?:^|(?<=\s)){_FILLER}(?:,|\s|$)\s*"), ""),
+    (re.compile(rf"\b{_SPOKEN_NUMBER},? {_CORRECTION},? (?:{_CORRECTION} )?(?={_SPOKEN_NUMBER}\b)"), ""),
+    (re.compile(rf"\b(?:left|right),? {_CORRECTION},? (?:{_CORRECTION} )?(?=(?:left|right)\b)"), ""),
+    (
+        re.compile(r"\btravell?ing the (opposite|same) direction (to|as)\b"),
+        r"travelling in the \1 direction \2",
+    ),
+    # a test specification: "Given X, when ..., then select it"
+    (re.compile(r"^given (?:that )?(?:there is )?"), ""),
+    (
+        re.compile(r",? (?:and )?then (?:select|return|flag|mark|tag|output|report|include|count|keep)\b.*$"),
+        "",
+    ),
+    (re.compile(r",? when (?:it|they) (?:is |are )?"), " "),
+    (
+        re.compile(
+            r",? when (?:its|their) lateral acceleration (?:to|toward|towards) the (left|right)"
+            r" (?:exceeds|is above|is more than|is over)"
+        ),
+        r" with a \1ward lateral acceleration of more than",
+    ),
+    (re.compile(r",? when (?=(?:at least |more than |another |an? |some |\d+ ))"), " with "),
+    (
+        re.compile(
+            r"\b(with (?:at least \d+ |more than \d+ |another |an? |some |\d+ )[\w ]+?) (?:is|are)"
+            r" (?=within|directly|behind|ahead|in front|on its|on their|to its|to their)"
+        ),
+        r"\1 ",
+    ),
+    # an exam question
+    (
+        re.compile(
+            r"^(?:at|during|in) (?:which|what) (?:moments?|times?|timestamps?|frames?|instants?) (?:does"
+            r"|do|is|are|did) "
+        ),
+        "",
+    ),
+    (
+        re.compile(
+            r"^(?:excluding|except(?: for)?|apart from|not counting) (the ego(?: vehicle)?),? (?:which "
+            r"|what )?(.+?)\??$"
+        ),
+        r"\2 other than the ego vehicle",
+    ),
+    (
+        re.compile(
+            r"\b(?:performs?|performing|executes|execute|executing|makes?|making|completes?|completing"
+            r"|undertakes?|undertaking) an? lane change (?:into the lane )?(?:to|on|toward) (?:the|their"
+            r"|its) (left|right)\b"
+        ),
+        r"changing lanes to the \1",
+    ),
+    (
+        re.compile(
+            r"\b(?:performs?|performing|executes|execute|executing|completes?|completing|undertakes?"
+            r"|undertaking) an? (left|right)[- ]turn(?: movement| maneuver| manoeuvre)?\b"
+        ),
+        r"turning \1",
+    ),
+    (re.compile(r"\b(?:points?|pointing) (toward|towards|at)\b"), r"pointing \1"),
+    (re.compile(r",? during the turn\b"), ""),
+    (
+        re.compile(r"\bwith (an? [\w ]+?) cross(?:es|ing)? (?:the|their|its) path in front of (them|it)\b"),
+        r"with \1 crossing in front of \2",
+    ),
+    (
+        re.compile(r"\bhave (an? [\w ]+?) cross (?:the|their|its) path in front of (them|it)\b"),
+        r"with \1 crossing in front of \2",
+    ),
+    (
+        re.compile(
+            r"\bwhile (?:their|its) (?:body|box|bounding box|footprint) (?:overlaps|is on|touches"
+            r"|intersects) (?:a |the )?(?:marked |painted )?crosswalk\b"
+        ),
+        "on a crosswalk",
+    ),
+    # a traffic engineer's jargon
+    (re.compile(r"\bwhose path is crossed by\b"), "being crossed by"),
+    (re.compile(r"\s*\((?:permissive|protected|conflicting)[^()]*\)"), ""),
+    (
+        re.compile(
+            r",? (?:as if |as though )?waiting (?:to cross|for the (?:walk|pedestrian|ped) (?:phase"
+            r"|signal|light))\b"
+        ),
+        "",
+    ),
+    (re.compile(r"\bnon-?motori[sz]ed road users\b"), "vulnerable road users"),
+    (re.compile(r"\b(?:inside|in|within) the intersection box\b"), "on an intersection"),
+    (
+        re.compile(
+            r"\b(?:an? )?(?:heavy|large|big) vehicles? \(((?:trucks?|box trucks?|buses|bus|truck"
+            r" cabs?)(?: or (?:trucks?|box trucks?|buses|bus|truck cabs?))+)\)"
+        ),
+        r"a \1",
+    ),
+    # "queued vehicles on an intersection approach: stopped within 15 m of ...": the definition
+    (
+        re.compile(
+            r"^(?:queued |queuing |queueing )?(vehicles?|cars?|trucks?|buses)(?: on an? (?:intersection"
+            r" )?approach)?: (?=stopped|waiting|moving)"
+        ),
+        r"\1 ",
+    ),
+)
+
+
+def register_wording(text: str) -> str:
+    """``text`` (lower case) with the wording of these four registers put in plain terms."""
+    for pattern, replacement in _REWRITES:
+        text = pattern.sub(replacement, text)
+    return text
