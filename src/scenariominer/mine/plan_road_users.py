@@ -13,12 +13,6 @@ __all__ = ["CATEGORY_PHRASES"]
 CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:the )?ego(?: vehicle| car)?|(?:the )?self[- ]driving (?:car|vehicle)", ("EGO_VEHICLE",)),
     (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
-    # a news story's names for it
-    (
-        r"(?:the )?(?:robo-?taxi|robot(?:ic)? (?:car|taxi)|driverless (?:car|vehicle|taxi)"
-        r"|self[- ]driving (?:taxi|cab)|autonomous taxi)",
-        ("EGO_VEHICLE",),
-    ),
     (r"(?:the )?(?:av|autonomous (?:car|vehicle)|test vehicle|host (?:car|vehicle))", ("EGO_VEHICLE",)),
     (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
     (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
