@@ -206,3 +206,8 @@ def test_a_stated_distance_to_an_intersection_sets_its_threshold() -> None:
     assert "near_intersection(subject, log_dir, threshold=8)" in rules_program(
         "vehicles near an intersection within 8 m"
     )
+
+
+def test_a_speed_of_zero_is_at_rest_not_a_false_flag() -> None:
+    assert rules_program("vehicles WHERE speed == 0") == rules_program("stopped vehicles")
+    assert rules_program("peds where v = 0 and on_road") == rules_program("pedestrians stopped and on road")

@@ -242,6 +242,8 @@ _REWRITES: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], .
         ),
         _ego_distance,
     ),
+    # "speed == 0": at rest (before the flags, where "= 0" means false)
+    (re.compile(rf"\b{_SPEED_FIELD}\s*==?\s*0(?:\.0+)?\s*(?:m/s|mps|km/h|kmh|kph|mph)?(?![\w.])"), "stopped"),
     # flags: "is_parked = true", "on_intersection == false", "in_drivable_area != 1"
     (
         re.compile(
