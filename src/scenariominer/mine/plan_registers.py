@@ -28,7 +28,7 @@ _SPOKEN_NUMBER = (
 _CORRECTION = r"(?:no|sorry|no sorry|i mean|no wait|wait|wait no|actually|scratch that)"
 #: Road-user words that may begin a restatement after a filler.
 _RESTATED = r"(?:vehicles?|cars?|pedestrians?|people|trucks?|buses|bus|cyclists?|bicycles?|objects?|the ego)"
-_REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
+_TRANSCRIPT: tuple[tuple[re.Pattern[str], str], ...] = (
     # a voice transcript
     (re.compile(rf"^.+? {_FILLER},? (?={_RESTATED}\b)"), ""),
     (re.compile(rf"(?:^|(?<=\s)){_FILLER}(?:,|\s|$)\s*"), ""),
@@ -38,6 +38,9 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
         re.compile(r"\btravell?ing the (opposite|same) direction (to|as)\b"),
         r"travelling in the \1 direction \2",
     ),
+)
+#: A test specification in Given/When/Then lines, read only in a text that begins with "given".
+_SPECIFICATION: tuple[tuple[re.Pattern[str], str], ...] = (
     # a test specification: "Given X, when ..., then select it"
     (re.compile(r"^given (?:that )?(?:there is )?"), ""),
     (
@@ -60,6 +63,8 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
         ),
         r"\1 ",
     ),
+)
+_OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
     # an exam question
     (
         re.compile(
@@ -139,6 +144,7 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
 
 def register_wording(text: str) -> str:
     """``text`` (lower case) with the wording of these four registers put in plain terms."""
-    for pattern, replacement in _REWRITES:
+    specification = _SPECIFICATION if text.startswith("given ") else ()
+    for pattern, replacement in (*_TRANSCRIPT, *specification, *_OTHERS):
         text = pattern.sub(replacement, text)
     return text

@@ -671,7 +671,8 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     # within 5 m", "Straight-through vehicle", "Left-turning vehicle with a crosswalk pedestrian"
     (
         re.compile(
-            r"(?<!lateral )\bacceleration(?: events?)? (?:above|over|more than|of more than|exceeding)"
+            r"(?<!lateral )(?<!with an )(?<!with a )\bacceleration(?: events?)?"
+            r" (?:above|over|more than|of more than|exceeding)"
             r" (\d+(?:\.\d+)?) ?m/s(?:²|\^2|2)"
         ),
         r"accelerating more than \1 m/s^2",
