@@ -25,9 +25,9 @@ _CATEGORY_FIELD = r"(?:category|class|object_?class|object_?type|obj_?type|type|
 #: A speed field; a unit in its name ("speed_mps", "v_kmh") is kept.
 _SPEED_FIELD = r"(?:abs_?)?(?:speed|velocity|vel|v)(?:_(?P<field_unit>mps|ms|m_s|kmh|kph|mph))?"
 _SPEED_UNIT = r"(?P<unit>m/s|mps|km/h|kmh|kph|mph)"
-#: A distance to the ego vehicle ("dist_to_ego", "distance from ego", "ego_dist", "range").
+#: A distance to the ego vehicle ("dist_to_ego", "box_dist_to_ego", "distance from ego", "ego_dist", "range").
 _EGO_DISTANCE = (
-    r"(?:dist(?:ance)?(?:_| )?(?:to|from)?(?:_| )?(?:the )?ego(?:_vehicle| vehicle)?"
+    r"(?:(?:box_?)?dist(?:ance)?(?:_| )?(?:to|from)?(?:_| )?(?:the )?ego(?:_vehicle| vehicle)?"
     r"|ego_?dist(?:ance)?|range_?to_?ego|range)(?:_m)?"
 )
 _TRUE = r"(?:true|1|yes)"
@@ -204,10 +204,6 @@ _CALLS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...]
     (
         re.compile(rf"\bdist(?:ance)?_?to_?(?:the_?)?intersection\s*<=?\s*(?P<d>{_NUMBER})\s*(?:m\b)?"),
         r"within \g<d> m of an intersection",
-    ),
-    (
-        re.compile(rf"\bbox_dist_to_ego\s*<=?\s*(?P<d>{_NUMBER})\s*(?:m\b)?"),
-        r"within \g<d> m of the ego vehicle",
     ),
 )
 

@@ -28,7 +28,8 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # the request verb, first (what follows names the subject)
     (
         re.compile(
-            r"^(?:please )?(?:tag|label|annotate|mark|flag|highlight)(?: (?:every|each|all|any))?"
+            r"^(?:please )?(?:(?:could|can|would|will) you (?:please )?)?(?:tag|label|annotate|mark|flag"
+            r"|highlight)(?: (?:every|each|all|any))?"
             r"(?: (?:frames?|moments?|times?|timestamps?|instances?|cases?) (?:in which|where|when|that))? "
         ),
         "",

@@ -59,7 +59,6 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
         "outside the drivable area",
     ),
     (re.compile(r"\b(?:strolling|walking|wandering) along\b"), "walking"),
-    (re.compile(r",? rather than on (?:a|the) (?:street|road)\b"), " and not on the road"),
     (
         re.compile(
             r"\ba lane (?:set aside|reserved|marked|meant|designated) for (?:bicycles|bikes|cyclists)\b"

@@ -183,7 +183,7 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         "not on the road",
     ),
-    (re.compile(r",? rather than on the road\b"), " and not on the road"),
+    (re.compile(r",? rather than on (?:a|the) (?:street|road)\b"), " and not on the road"),
     (re.compile(r"\bcar parks?\b"), "parking lot"),
     (
         re.compile(r"\bswing(?:s|ing)? (?:out )?(?:to(?:wards?)? )?(?:the |its |their )?(left|right)\b"),
