@@ -23,7 +23,9 @@ PAST_FORMS: dict[str, str] = {
     "came": "coming",
     "changed": "changing",
     "crossed": "crossing",
+    "crept": "creeping",
     "cut": "cutting",
+    "darted": "darting",
     "cycled": "cycling",
     "decelerated": "decelerating",
     "drove": "driving",
@@ -43,6 +45,7 @@ PAST_FORMS: dict[str, str] = {
     "slowed": "slowing",
     "sped": "speeding",
     "stayed": "staying",
+    "stepped": "stepping",
     "stood": "standing",
     "strolled": "walking",
     "swerved": "swerving",
@@ -221,13 +224,17 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
         r"\1 across ",
     ),
     (re.compile(r"\bzebra crossings?\b"), "crosswalk"),
+    # British words: "queuing at the junction", "indicating and changing lanes"
+    (re.compile(r"\bqueue?ing\b"), "waiting"),
+    (re.compile(r"\bindicating (?:and |before |to )?(?=changing|turning|pulling|merging)"), ""),
     (re.compile(r"\bintersection area\b"), "intersection"),
     (re.compile(r"\b(?:as|while|when) (?:it|they) (?:left|leaves?|was leaving|were leaving|exit(?:s|ed)?)"
                 r" (?:the|an) intersection\b"), "near an intersection"),
     (re.compile(r"\bout (on|in) the (road|street)\b"), r"\1 the \2"),
     (re.compile(r" (?:down|along|up) the (?:road|street)$"), ""),
     # "the ego vehicle with at least 3 pedestrians in front of the ego vehicle": in front of it
-    (re.compile(r"^(the ego vehicle) with (.+?) (in front of|ahead of|behind) (?:us|the ego vehicle)\b"),
+    (re.compile(r"^(the ego vehicle\b(?: [\w ]+?)?) with (.+?) (in front of|ahead of|behind)"
+                r" (?:us|the ego vehicle)\b"),
      r"\1 with \2 \3 it"),
 )  # fmt: skip
 

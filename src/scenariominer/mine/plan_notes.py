@@ -21,6 +21,32 @@ __all__ = ["plain_notes"]
 
 #: Shorthand and fragments, each with its plain wording, applied in order.
 _SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
+    # a chat message's abbreviations: "peds xing nr ego", "veh LC L", "LT at int", "ego hard decel"
+    (re.compile(r"^(?:gimme|grab(?: me)?|got any|any(?:one|body) got|hunting for|hunt for)\s+"), ""),
+    (re.compile(r",? ?\b(?:pls|plz|thx|thanks|asap|fyi|tia)\b[.!]*"), ""),
+    (re.compile(r"\bx-?ing\b"), "crossing"),
+    (re.compile(r"\bx-?walk(s?)\b"), r"crosswalk\1"),
+    (re.compile(r"\bnr\b"), "near"),
+    (re.compile(r"\b(?:intx|isect|int)\b(?![-'])"), "intersection"),
+    (re.compile(r"\bppl\b"), "people"),
+    (re.compile(r"\bvehs\b"), "vehicles"),
+    (re.compile(r"\bego veh\b"), "ego vehicle"),
+    (re.compile(r"\bln(s?)\b"), r"lane\1"),
+    (re.compile(r"\bfwd\b"), "forward"),
+    (re.compile(r"\bopp\b\.?"), "opposite"),
+    (re.compile(r"\badj\b\.?"), "adjacent"),
+    (re.compile(r"\bspd\b"), "speed"),
+    (re.compile(r"(?<![\w/])(?:b/c|bc|cuz|coz|bcuz)\b"), "because"),
+    (re.compile(r"(?:\b(?:approx\.?|abt|roughly)\s*|~\s*)(?=\d)"), ""),
+    (re.compile(r"\s*@\s*"), " at "),
+    (re.compile(r"\blc(s?) (?:to (?:the )?)?(l|r|left|right)\b"),
+     lambda m: "changing lanes to the " + {"l": "left", "r": "right"}.get(m[2], m[2])),
+    (re.compile(r"\blc(s?)\b"), r"lane change\1"),
+    (re.compile(r"\b(turn|turns|turning|turned) (l|r)\b(?![-'])"),
+     lambda m: f"{m[1]} {'left' if m[2] == 'l' else 'right'}"),
+    (re.compile(r"\b(?:(l)|r)(?:-| )?turn(s?)\b"), lambda m: f"{'left' if m[1] else 'right'} turn{m[2]}"),
+    (re.compile(r"\b(?:(lt)|rt)\b(?![-'])"), lambda m: "left turn" if m[1] else "right turn"),
+    (re.compile(r"\b(?:hard decel(?:eration|erating)?|decel(?:eration|erating)? hard)\b"), "braking hard"),
     (re.compile(r"\bw/in\b"), "within"),
     (re.compile(r"\bw/o\b"), "without"),
     (re.compile(r"\bw/(?=\s|[a-z])\s*"), "with "),
@@ -149,8 +175,8 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], 
 
 #: A count first: "at least 2 vehicles ahead of ego": a condition on the road user named second.
 _COUNT_FIRST = re.compile(
-    rf"^(?P<count>at least \d+) (?P<many>{NP}) (?P<where>ahead of|in front of|behind|to the left of"
-    rf"|to the right of|near|around|next to|close to) (?P<one>{NP})(?![\w-])(?P<rest>.*)$"
+    rf"^(?P<count>at least \d+|\d+ or more) (?P<many>{NP}) (?P<where>ahead of|in front of|behind"
+    rf"|to the left of|to the right of|near|around|next to|close to) (?P<one>{NP})(?![\w-])(?P<rest>.*)$"
 )
 #: How the place reads after "with N X": "ahead of Y" -> "ahead of it".
 _COUNTED_PLACE = dict.fromkeys(("near", "around", "next to", "close to"), "nearby")
@@ -193,7 +219,8 @@ def plain_notes(text: str) -> str:
         within = re.match(r" within (\d+(?:\.\d+)? ?m)\b(.*)$", rest)
         if where == "nearby" and within is not None:  # "near the ego within 20 m": within 20 m of it
             where, rest = f"within {within[1]}", within[2]
-        text = f"{counted['one']} with {counted['count']} {counted['many']} {where}{rest}"
+        count = re.sub(r"^(\d+) or more$", r"at least \1", counted["count"])
+        text = f"{counted['one']} with {count} {counted['many']} {where}{rest}"
     if ":" in text or "(" in text:
         return text
     parts = re.split(r"\s*[,;]\s*", text)

@@ -663,7 +663,7 @@ PHRASES: tuple[Phrase, ...] = (
         r" the drivable (?:area|surface|space|region|road surface)",
         "in_drivable_area",
     ),
-    Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement)", "in_drivable_area"),
+    Phrase(r"(?P<neg>on|along) the (?:sidewalk|pavement|footway|footpath)", "in_drivable_area"),
     Phrase(r"(?:on|in) (?:the |a )?(?:road|street|roadway|carriageway)", "on_road"),
     # "in a lane" of no named type: on the road (the lanes are the road)
     Phrase(

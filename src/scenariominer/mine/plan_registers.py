@@ -1,4 +1,4 @@
-"""Four more registers, put in the form the phrase rules read.
+"""Five more registers, put in the form the phrase rules read.
 
 * a voice transcript: fillers ("um", "uh"), a self-correction ("ten no sorry twelve" -> "twelve"),
   and a restatement after a filler ("oncoming traffic um vehicles travelling the opposite way");
@@ -6,6 +6,8 @@
   then select it" -> "a vehicle sharing a lane with a bus";
 * an exam question: "At which moments does the ego vehicle ...", "Excluding the ego, which vehicles
   ...", "Which vehicles perform a lane change to the left?";
+* a planner bug report: "the planner braked hard because a pedestrian stepped out in front of it",
+  "the ego got cut off by a car", "stopping for a cyclist";
 * a traffic engineer's jargon: "executing a right-turn movement", "queued vehicles on an
   intersection approach: stopped within ...", "whose path is crossed by", "non-motorised road
   users", "the intersection box", a signal phase given as the reason ("waiting for the walk phase").
@@ -17,6 +19,8 @@
 from __future__ import annotations
 
 import re
+
+from scenariominer.mine.plan_nouns import NP
 
 __all__ = ["register_wording"]
 
@@ -112,6 +116,40 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
         ),
         "on a crosswalk",
     ),
+    # a planner bug report: "the planner braked hard because a pedestrian stepped out in front of
+    # it", "the ego got cut off by a car", "stopping for a cyclist"
+    (re.compile(r"^(?:the )?(?:planner|av stack|autonomy stack|stack)\b"), "the ego vehicle"),
+    (
+        re.compile(
+            r"\b((?:braking|braked|brakes|stopping|stopped|stops|slowing(?: down)?|slowed(?: down)?"
+            r"|slows(?: down)?|swerving|swerved|swerves|hesitating|hesitated)"
+            r"(?: (?:hard|suddenly|abruptly|sharply|harshly|heavily))?) (?:because of|due to|for"
+            rf"|in response to) (?=(?:an?|the|some|another|\d+|several|multiple) {NP})"
+        ),
+        r"\1 with ",
+    ),
+    (re.compile(rf",? because (?=(?:an?|another|some|\d+|several|multiple) {NP})"), " with "),
+    (
+        re.compile(
+            r"\b(?:stepped|stepping|steps|walked|walking|walks|darted|darting|darts|ran|running|runs)"
+            r" (?:out )?(?:in front of|into the path of) (it|them)\b"
+        ),
+        r"crossing in front of \1",
+    ),
+    (
+        re.compile(
+            rf"\b(?:got|gets|getting|was|were|is|being) cut off by ((?:an?|another|the|some) {NP})"
+            r"(?: (?:cutting|pulling|merging) in)?"
+        ),
+        r"with \1 crossing its path",
+    ),
+    (
+        re.compile(
+            rf"\bwith ((?:an?|another|the|some) {NP}) (?:cutting|pulling|swerving) (?:in )?"
+            r"(?:in front of|ahead of) (?:it|them)\b"
+        ),
+        r"with \1 crossing its path",
+    ),
     # a traffic engineer's jargon
     (re.compile(r"\bwhose path is crossed by\b"), "being crossed by"),
     (re.compile(r"\s*\((?:permissive|protected|conflicting)[^()]*\)"), ""),
@@ -143,7 +181,7 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
 
 
 def register_wording(text: str) -> str:
-    """``text`` (lower case) with the wording of these four registers put in plain terms."""
+    """``text`` (lower case) with the wording of these five registers put in plain terms."""
     specification = _SPECIFICATION if text.startswith("given ") else ()
     for pattern, replacement in (*_TRANSCRIPT, *specification, *_OTHERS):
         text = pattern.sub(replacement, text)

@@ -367,6 +367,10 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
     (re.compile(r"\b(?:suddenly|abruptly) (?=\w+ing\b)"), ""),
     (re.compile(r"\bgetting (passed|overtaken|followed|tailgated)\b"), r"being \1"),
     (
+        re.compile(r"\b(?:got|gets|was|were)(?: being)? (passed|overtaken|followed|tailgated)(?= by\b)"),
+        r"being \1",
+    ),
+    (
         re.compile(
             r"\b(?:speeding up|accelerating) (?:with )?(?:an? )?acceleration (?:of )?"
             r"(more than|over|above|at least) "
@@ -566,6 +570,24 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         "vehicles braking hard",
     ),
+    (
+        re.compile(
+            r"^(?:all |any )?(?:changing lanes|lane changes?(?: events?| manoeuvres?| maneuvers?)?)"
+            r"(?=$| to the (?:left|right)\b| (?:at|near|on|in|with|while|by)\b)"
+        ),
+        "vehicles changing lanes",
+    ),
+    (
+        re.compile(
+            r"^(?:all |any )?(left|right)[- ]turns?(?: events?| manoeuvres?| maneuvers?)?"
+            r"(?=$| (?:at|near|on|in|with|while|by)\b)"
+        ),
+        r"vehicles turning \1",
+    ),
+    (
+        re.compile(r"^(?:all |any )?u-?turns?(?: events?| manoeuvres?| maneuvers?)?(?=$| )"),
+        "vehicles making a u-turn",
+    ),
     # "turning left with an oncoming vehicle", "vehicles with a parked car": another road user with
     # its own condition and no relation word is one close by (the bare "with X nearby"), the
     # condition its own, not the subject's
@@ -630,7 +652,7 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         re.compile(
             r"\b(?:stepping|walking|wandering|darting|dashing|running)"
             r"(?: off the (?:curb|kerb|sidewalk|pavement))? (?:out )?(?:into|onto) the (?:road|street|roadway"
-            r"|traffic)\b"
+            r"|carriageway|traffic)\b|\b(?:stepping|stepped|steps) off the (?:curb|kerb)\b"
         ),
         "on the road",
     ),

@@ -18,7 +18,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
     (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
     (r"scooter riders?|wheeled riders?", ("WHEELED_RIDER",)),
-    (r"(?:bi)?cyclists?|(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),
+    (r"(?:bi)?cyclists?|(?:pedal )?(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),
     (r"motorcycles?|motorbikes?", ("MOTORCYCLE",)),
     # before "pedestrians" and "signs"
     (
@@ -26,9 +26,10 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
         ("MOBILE_PEDESTRIAN_CROSSING_SIGN",),
     ),
     (r"school bus(?:es)?", ("SCHOOL_BUS",)),
+    (r"articulated lorr(?:y|ies)", ("TRUCK",)),
     (r"articulated bus(?:es)?|bendy bus(?:es)?", ("ARTICULATED_BUS",)),
     (r"city bus(?:es)?", ("BUS",)),
-    (r"bus(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
+    (r"bus(?:es)?|coach(?:es)?", ("BUS", "ARTICULATED_BUS", "SCHOOL_BUS")),
     (r"box trucks?|box vans?|delivery trucks?|delivery vans?", ("BOX_TRUCK",)),
     (r"truck cabs?|semi[- ]trucks?|tractor units?|tractor cabs?", ("TRUCK_CAB",)),
     # "trucks" is AV2's TRUCK (box trucks and truck cabs are categories of their own; nine of ten
@@ -38,7 +39,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
         r"|(?:any|every|all) (?:kinds?|types?|sorts?) of trucks?",
         ("TRUCK", "BOX_TRUCK", "TRUCK_CAB"),
     ),
-    (r"trucks?|lorr(?:y|ies)", ("TRUCK",)),
+    (r"trucks?|lorr(?:y|ies)|hgvs?|heavy goods vehicles?", ("TRUCK",)),
     (r"(?:large|big|heavy) vehicles?", ("LARGE_VEHICLE",)),
     (
         r"(?:(?:variable )?message|electronic|lighted|led) (?:board|sign) trailers?|message boards?"

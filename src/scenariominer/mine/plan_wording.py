@@ -186,15 +186,21 @@ _MANOEUVRE_NOUNS: tuple[tuple[re.Pattern[str], str], ...] = (
 )
 
 
+#: A place named by its bare noun in a specification ("context: intersection").
+_SPEC_PLACE = re.compile(r"^(?:an? |the )?(intersection|junction|crosswalk|pedestrian crossing)s?$")
+
+
 def _spec_lines(text: str) -> str:
     """A specification of ``key: value`` parts as one sentence, or ``text`` when it is none.
 
     "actor: vehicle; manoeuvre: right turn; condition: a pedestrian crosses in front of it" ->
     "vehicle turning right and with a pedestrian crosses in front of it"; "ego: turning left |
     location: on an intersection" -> "the ego vehicle turning left and on an intersection". At
-    least two parts, separated by ";" or "|", each with a known key.
+    least two parts, separated by ";" or "|" (or else by commas), each with a known key.
     """
     parts = [p for p in re.split(r"\s*[;|]\s*", text.strip().rstrip(".")) if p]
+    if len(parts) < 2:  # "actor=vehicle, maneuver=lane change left": parts between commas
+        parts = [p for p in re.split(r"\s*,\s*", text.strip().rstrip(".")) if p]
     found = [_SPEC_PART.match(p) for p in parts]
     if len(parts) < 2 or any(f is None or f["key"] not in _SPEC_ROLES for f in found):
         return text
@@ -212,8 +218,14 @@ def _spec_lines(text: str) -> str:
                 value = pattern.sub(replacement, value).rstrip()
             clauses.insert(0, value)
         else:
-            starts_with_user = re.match(rf"(?:an?|another|some|\d+|at least \d+|no|other) {NP}", value)
-            clauses.append(f"with {value}" if starts_with_user else value)
+            starts_with_user = re.match(
+                rf"(?:(?:an?|another|some|\d+|at least \d+|no|other|the) )?{NP}", value
+            )
+            if _SPEC_PLACE.match(value):  # "context: intersection": at one
+                value = "at " + _SPEC_PLACE.sub(r"the \1", value)
+            elif starts_with_user:
+                value = f"with {value}"
+            clauses.append(value)
     if not actor:
         return text
     return f"{actor} {' and '.join(clauses)}".strip()
