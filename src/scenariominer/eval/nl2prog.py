@@ -155,6 +155,10 @@ SPLITS: tuple[str, ...] = (
     "fresh46",
     "fresh47",
     "fresh48",
+    "fresh49",
+    "fresh50",
+    "fresh51",
+    "fresh52",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
