@@ -57,7 +57,7 @@ from scenariominer.mine.plan_wording import normalised_text
         # British road words
         ("vehicles queuing at the junction", "vehicles waiting near an intersection"),
         ("cyclists on the footway", "bicycles or cyclists on the sidewalk"),
-        ("HGVs near the ego", "trucks near the ego vehicle"),
+        ("HGVs near the ego", "trucks or box trucks or truck cabs near the ego vehicle"),
         ("coaches on the carriageway", "buses on the road"),
         ("vehicles indicating and changing lanes", "vehicles changing lanes"),
     ],
@@ -90,3 +90,85 @@ def test_a_cut_off_is_a_crossing_of_the_path_ahead() -> None:
 )
 def test_plain_wording_is_not_taken_for_a_reason(text: str, normalised: str) -> None:
     assert normalised_text(text) == normalised
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh49-fresh52 runs (plan-reader/50): a bug report's request sentence
+        (
+            "Cut-in prediction failed when a car moved over to its left. Find vehicles changing lanes to"
+            " the left.",
+            "vehicles changing lanes to the left",
+        ),
+        (
+            "Find vehicles that have a pedestrian ahead of them within 15 m; we saw late braking in this"
+            " situation.",
+            "vehicles with a pedestrian ahead of them within 15 m",
+        ),
+        (
+            "Lateral planning got squeezed between two cars. Find the ego vehicle with a vehicle on its left"
+            " and another on its right, each within 4 m.",
+            "the ego vehicle with a vehicle on its left within 4 m and with another vehicle on its right"
+            " within 4 m",
+        ),
+        (
+            "the ego vehicle with a vehicle passing along its left side from behind to ahead",
+            "the ego vehicle being passed on its left by a vehicle",
+        ),
+        # a specification's other keys
+        (
+            "actor: pedestrian | facing: toward the ego vehicle | range: 20 m",
+            "pedestrians facing toward the ego vehicle within 20 m",
+        ),
+        (
+            "actor: vehicle | relation: oncoming traffic relative to ego | range: within 30 m of ego",
+            "vehicles travelling in the opposite direction to the ego vehicle within 30 m of the ego vehicle",
+        ),
+        (
+            "actor: ego vehicle | condition: two or more vehicles ahead within 25 m",
+            "the ego vehicle with at least 2 vehicles ahead within 25 m",
+        ),
+        (
+            "actor: vehicle | state: parked | condition: pedestrian within 50 ft",
+            "parked vehicles with a pedestrian within 15.24 m",
+        ),
+        (
+            "actor: vehicle | condition: another vehicle alongside on its right (within 4 m, lateral 1 m)",
+            "vehicles with another vehicle directly on its right within 4 m",
+        ),
+        (
+            "actor: vehicle | heading: perpendicular to ego's travel | map: on intersection",
+            "vehicles moving perpendicular to the ego vehicle on an intersection",
+        ),
+        # chat shorthand
+        ("peds on rd but not at xwalk", "pedestrians on the road but not at a crosswalk"),
+        ("anything on ego left side w/in 5m", "anything to the left of the ego vehicle within 5 m"),
+        ("large veh that arent parked", "large vehicles that are not parked"),
+        (
+            "moving veh w/ nothing ahead in its lane for 30m",
+            "moving vehicles with no objects directly ahead within 30 m",
+        ),
+        ("cars doing lane change w/in 20m of ego", "cars changing lanes within 20 m of the ego vehicle"),
+        ("veh crawling 5 to 10 mph", "vehicles moving between 5 and 10 mph"),
+        # British road words
+        ("cars parked off the carriageway", "cars parked not on the road"),
+        ("people on e-scooters or other wheeled devices", "wheeled riders or wheeled devices"),
+        (
+            "vehicles with another vehicle close up behind them, within 5 metres",
+            "vehicles with another vehicle behind them within 5 m",
+        ),
+    ],
+)
+def test_a_spent_run_wording_builds_the_program_of_its_plain_english(written: str, plain: str) -> None:
+    assert rules_program(written) == rules_program(plain)
+
+
+def test_a_text_with_two_requests_or_none_keeps_all_its_sentences() -> None:
+    from scenariominer.mine.plan_registers import request_sentence
+
+    two = "Find parked cars. Find moving buses."
+    assert request_sentence(two) == two
+    none = "A car cut in. The ego braked."
+    assert request_sentence(none) == none
+    assert request_sentence("the car moved. show me buses.") == "show me buses"

@@ -22,7 +22,7 @@ import re
 
 from scenariominer.mine.plan_nouns import NP
 
-__all__ = ["register_wording"]
+__all__ = ["register_wording", "request_sentence"]
 
 _FILLER = r"(?:um+|uh+|er+m?|hmm+|ah+)"
 _SPOKEN_NUMBER = (
@@ -151,6 +151,15 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
         r"with \1 crossing its path",
     ),
     # a traffic engineer's jargon
+    (
+        re.compile(
+            r"\b(perpendicular|opposite|parallel) to (the ego(?: vehicle)?|ego)'s (?:direction of travel"
+            r"|travel(?:ling)?(?: direction)?|heading|path)\b"
+        ),
+        r"\1 to \2",
+    ),
+    (re.compile(r"\bcrawling (?:at )?(?:below|under|less than|slower than) (?=\d)"), "slower than "),
+    (re.compile(r"\bcrawling (?:at )?(?=(?:between )?\d)"), "moving "),
     (re.compile(r"\bwhose path is crossed by\b"), "being crossed by"),
     (re.compile(r"\s*\((?:permissive|protected|conflicting)[^()]*\)"), ""),
     (
@@ -178,6 +187,28 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
         r"\1 ",
     ),
 )
+
+
+#: A sentence that asks for the result ("Find vehicles ...", "Show me ...").
+_REQUEST = re.compile(
+    r"^(?:please |so |now )?(?:find|show(?: me)?|list|retrieve|get|look for|search for|select|return"
+    r"|pull(?: up)?|give me|locate|identify|extract|collect|query)\b"
+)
+
+
+def request_sentence(text: str) -> str:
+    """The one sentence of ``text`` that asks for the result, when ``text`` has others besides.
+
+    A bug report gives the reason before the request: "Cut-in prediction failed when a car moved
+    over. Find vehicles changing lanes to the left." -> "find vehicles changing lanes to the left";
+    "Find vehicles ...; we saw late braking in this situation." -> "find vehicles ...". A text with
+    no such sentence, or with two, is returned as it is.
+    """
+    sentences = [s for s in re.split(r"(?<=[.!?;])\s+", text.strip()) if s]
+    asked = [s for s in sentences if _REQUEST.match(s)]
+    if len(sentences) < 2 or len(asked) != 1:
+        return text
+    return asked[0].rstrip(" .;!?")
 
 
 def register_wording(text: str) -> str:

@@ -183,7 +183,25 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         ),
         "not on the road",
     ),
-    (re.compile(r",? rather than on (?:a|the) (?:street|road)\b"), " and not on the road"),
+    (re.compile(r",? rather than (?:on|in) (?:a|the) (?:street|road|carriageway)\b"), " and not on the road"),
+    (re.compile(r"\boff the (?:road|carriageway|roadway|street)\b"), "not on the road"),
+    (re.compile(r"\b(?:close |right |tight )?up behind\b"), "behind"),
+    # "with a vehicle passing on its left": being passed on that side by it
+    (
+        re.compile(
+            rf"\bwith (an?|another) ({NP}) (?:passing|overtaking) (?:it |them )?(?:along |on )(its|their)"
+            r" (left|right)(?: side)?\b"
+        ),
+        r"being passed on \3 \4 by \1 \2",
+    ),
+    # "with a vehicle on its left and another on its right, each within 4 m": each with that limit
+    (
+        re.compile(
+            rf"\bwith (an?) ({NP}) on (its|their) (left|right) and another(?: one)? on (?:its|their)"
+            r" (left|right),? each within (\d+(?:\.\d+)? ?m)\b"
+        ),
+        r"with \1 \2 on \3 \4 within \6 and with another \2 on \3 \5 within \6",
+    ),
     (re.compile(r"\bcar parks?\b"), "parking lot"),
     (
         re.compile(r"\bswing(?:s|ing)? (?:out )?(?:to(?:wards?)? )?(?:the |its |their )?(left|right)\b"),

@@ -17,7 +17,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
     (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
     (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
-    (r"scooter riders?|wheeled riders?", ("WHEELED_RIDER",)),
+    (r"scooter riders?|wheeled riders?|people (?:on|riding) (?:e-|electric )?scooters", ("WHEELED_RIDER",)),
     (r"(?:bi)?cyclists?|(?:pedal )?(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),
     (r"motorcycles?|motorbikes?", ("MOTORCYCLE",)),
     # before "pedestrians" and "signs"
@@ -39,8 +39,9 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
         r"|(?:any|every|all) (?:kinds?|types?|sorts?) of trucks?",
         ("TRUCK", "BOX_TRUCK", "TRUCK_CAB"),
     ),
-    (r"trucks?|lorr(?:y|ies)|hgvs?|heavy goods vehicles?", ("TRUCK",)),
-    (r"(?:large|big|heavy) vehicles?", ("LARGE_VEHICLE",)),
+    (r"hgvs?|heavy goods vehicles?", ("TRUCK", "BOX_TRUCK", "TRUCK_CAB")),
+    (r"trucks?|lorr(?:y|ies)", ("TRUCK",)),
+    (r"(?:large|big|heavy) (?:vehicles?|vehs?)", ("LARGE_VEHICLE",)),
     (
         r"(?:(?:variable )?message|electronic|lighted|led) (?:board|sign) trailers?|message boards?"
         r"|message signs?",

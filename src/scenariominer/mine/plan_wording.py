@@ -21,7 +21,7 @@ from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_news import news_wording
 from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
-from scenariominer.mine.plan_registers import register_wording
+from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 
 __all__ = [
@@ -163,13 +163,18 @@ _SPEC_ROLES: dict[str, str] = {
     ),
     "ego": "ego",
     **dict.fromkeys(
-        ("manoeuvre", "maneuver", "manoeuver", "action", "behaviour", "behavior", "motion", "activity"),
+        (
+            "manoeuvre", "maneuver", "manoeuver", "action", "behaviour", "behavior", "motion", "activity",
+            "state", "status",
+        ),
         "motion",
     ),
+    **dict.fromkeys(("facing", "heading", "direction", "orientation"), "bearing"),
+    **dict.fromkeys(("range", "distance", "radius", "proximity", "within"), "range"),
     **dict.fromkeys(
         (
             "condition", "relation", "location", "context", "constraint", "where", "place", "map",
-            "area", "speed", "filter", "interaction", "trigger", "situation", "other", "with",
+            "area", "speed", "filter", "interaction", "trigger", "situation", "other", "with", "event",
         ),
         "clause",
     ),
@@ -188,6 +193,27 @@ _MANOEUVRE_NOUNS: tuple[tuple[re.Pattern[str], str], ...] = (
 
 #: A place named by its bare noun in a specification ("context: intersection").
 _SPEC_PLACE = re.compile(r"^(?:an? |the )?(intersection|junction|crosswalk|pedestrian crossing)s?$")
+#: A bare distance in a specification ("range: 20 m"): a limit on the part before it.
+_SPEC_DISTANCE = re.compile(
+    r"^(?:within |up to |under |less than |<=? ?)?(\d+(?:\.\d+)?) ?(m|metres?|meters?|ft|feet)$"
+)
+#: "relation: oncoming traffic relative to ego": the direction of travel it names.
+_SPEC_ONCOMING = re.compile(
+    r"^oncoming(?: traffic| vehicles?)? (?:relative to|with respect to|to|for|towards?) (.+)$"
+)
+#: A road user first in a part ("two or more vehicles ahead ..."): a "with" clause.
+_SPEC_USER = re.compile(rf"(?:(?:an?|another|some|\w+ or more|at least \w+|\d+|no|other|the) )?{NP}")
+
+
+def _spec_value(role: str, key: str, value: str) -> str:
+    """One part of a specification as the words of its clause ("facing: toward X" -> "facing toward X")."""
+    if role == "bearing" and not re.match(r"\w+ing\b", value):
+        return f"{'moving' if key == 'direction' else key} {value}"
+    if _SPEC_PLACE.match(value):  # "context: intersection": at one
+        return "at " + _SPEC_PLACE.sub(r"the \1", value)
+    if (oncoming := _SPEC_ONCOMING.match(value)) is not None:
+        return f"travelling in the opposite direction to {oncoming[1]}"
+    return f"with {value}" if _SPEC_USER.match(value) else value
 
 
 def _spec_lines(text: str) -> str:
@@ -202,12 +228,18 @@ def _spec_lines(text: str) -> str:
     if len(parts) < 2:  # "actor=vehicle, maneuver=lane change left": parts between commas
         parts = [p for p in re.split(r"\s*,\s*", text.strip().rstrip(".")) if p]
     found = [_SPEC_PART.match(p) for p in parts]
-    if len(parts) < 2 or any(f is None or f["key"] not in _SPEC_ROLES for f in found):
+    if len(parts) < 2 or any(f is None for f in found):
+        return text
+    keys = [f["key"] for f in found if f is not None]
+    # a key of its own ("relative position: ...") is a condition, once an actor is named
+    if not any(_SPEC_ROLES.get(k) in ("actor", "ego") for k in keys) and any(
+        k not in _SPEC_ROLES for k in keys
+    ):
         return text
     actor, clauses = "", []
     for f in found:
         assert f is not None
-        role, value = _SPEC_ROLES[f["key"]], f["value"]
+        role, value = _SPEC_ROLES.get(f["key"], "clause"), f["value"]
         if role == "actor":
             actor = value
         elif role == "ego":
@@ -217,15 +249,11 @@ def _spec_lines(text: str) -> str:
             for pattern, replacement in _MANOEUVRE_NOUNS:
                 value = pattern.sub(replacement, value).rstrip()
             clauses.insert(0, value)
+        elif role == "range" and (distance := _SPEC_DISTANCE.match(value)) and clauses:
+            # "range: 20 m": the limit of the part before it ("approaching the ego vehicle within 20 m")
+            clauses[-1] += f" within {distance[1]} {distance[2]}"
         else:
-            starts_with_user = re.match(
-                rf"(?:(?:an?|another|some|\d+|at least \d+|no|other|the) )?{NP}", value
-            )
-            if _SPEC_PLACE.match(value):  # "context: intersection": at one
-                value = "at " + _SPEC_PLACE.sub(r"the \1", value)
-            elif starts_with_user:
-                value = f"with {value}"
-            clauses.append(value)
+            clauses.append(_spec_value(role, f["key"], value))
     if not actor:
         return text
     return f"{actor} {' and '.join(clauses)}".strip()
@@ -243,7 +271,7 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = " ".join(description.lower().split())
+    text = request_sentence(" ".join(description.lower().split()))
     text = present_tense(
         _spec_lines(
             learner_wording(
