@@ -172,3 +172,34 @@ def test_a_text_with_two_requests_or_none_keeps_all_its_sentences() -> None:
     none = "A car cut in. The ego braked."
     assert request_sentence(none) == none
     assert request_sentence("the car moved. show me buses.") == "show me buses"
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # my own wordings for plan-reader/51, before the fresh53-fresh56 passes were read: a hazard
+        # worksheet's ratings, a remote-assistance log, a family member's plain words
+        (
+            "HE-03: pedestrian crossing in front of the ego vehicle (S3, E4, C2), ASIL B",
+            "pedestrians crossing in front of the ego vehicle",
+        ),
+        (
+            "RA request: ego blocked by a stopped truck in its lane",
+            "the ego vehicle stopped behind a stopped truck in the same lane",
+        ),
+        (
+            "Blocked by double-parked car ahead, needed nudge",
+            "the ego vehicle stopped behind a parked car ahead",
+        ),
+        ("a big truck driving right next to us", "trucks next to the ego vehicle"),
+        ("someone on a bike riding near our car", "bicycle riders riding near the ego vehicle"),
+        (
+            "when our car has to stop because a pedestrian is crossing in front of it",
+            "the ego vehicle stopping with a pedestrian crossing in front of it",
+        ),
+    ],
+)
+def test_an_own_wording_of_a_new_register_builds_the_program_of_its_plain_english(
+    written: str, plain: str
+) -> None:
+    assert rules_program(written) == rules_program(plain)

@@ -128,7 +128,44 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
         ),
         r"\1 with ",
     ),
-    (re.compile(rf",? because (?=(?:an?|another|some|\d+|several|multiple) {NP})"), " with "),
+    (
+        re.compile(rf",? because (?=(?:an?|another|some|\d+|several|multiple) {NP}|someone\b|somebody\b)"),
+        " with ",
+    ),
+    # a hazard analysis worksheet: ratings and labels are not conditions ("(S3, E4, C2)", "ASIL B")
+    (re.compile(r",?\s*\(?\basil[- ]?(?:qm|[a-d])\b\)?"), ""),
+    (re.compile(r",?\s*\(?\b(?:[sec][0-4])(?:\s*[,/;]\s*[sec][0-4]){1,2}\)?"), ""),
+    (re.compile(r"[,;]\s*(?:severity|exposure|controllability)\s*[:=]?\s*[\w-]+"), ""),
+    # a remote-assistance log: "RA request: ego blocked by a stopped truck", "needed a nudge"
+    (
+        re.compile(
+            r"^(?:ra|remote[- ]assist(?:ance)?|teleop|ticket)(?: request| req| event| log)?\s*[:#-]\s*"
+        ),
+        "",
+    ),
+    (re.compile(r"^(?=(?:blocked|stuck) (?:by|behind)\b)"), "the ego vehicle "),
+    (
+        re.compile(r"\b(?:was |is |got |were )?(?:blocked|stuck|held up) (?:by|behind) (?:an? )?"),
+        "stopped behind a ",
+    ),
+    (
+        re.compile(
+            rf"\bwith ((?:(?:an?|another|some|\d+) )?{NP}|someone|somebody) (?:is|are|was|were) (?=\w+ing\b)"
+        ),
+        r"with \1 ",
+    ),
+    (
+        re.compile(
+            r",?\s*(?:and )?(?:needed|requested|required|asked for|awaiting|waiting for) (?:an? )?"
+            r"(?:remote )?(?:nudge|assist(?:ance)?|help|guidance|teleop|intervention|takeover)\b.*$"
+        ),
+        "",
+    ),
+    # a family member's plain words: "when our car has to stop", "a big truck", "right next to us"
+    (re.compile(r"^when (?=(?:our|the|my|a|an|we)\b)"), ""),
+    (re.compile(r"\b(?:has|have|had) to (stop|brake|slow down|wait)\b"), r"\1"),
+    (re.compile(r"\b(?:big|huge|massive|giant) (?=trucks?\b|lorr|bus)"), ""),
+    (re.compile(r"\bright next to\b"), "next to"),
     (
         re.compile(
             r"\b(?:stepped|stepping|steps|walked|walking|walks|darted|darting|darts|ran|running|runs)"

@@ -421,6 +421,14 @@ _REWORDINGS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]],
         re.compile(rf"\b(following|tailgating|trailing) ({NP}) in (?:their|its|the same|his|her) lane\b"),
         r"\1 \2",
     ),
+    # "stopped behind a truck in its lane": behind it in the same lane
+    (
+        re.compile(
+            rf"\b((?:stopped|waiting|sitting|queued|queuing|stuck|standing) behind) ({NP})"
+            r" in (?:its|their|his|her) (?:own )?lane\b"
+        ),
+        r"\1 \2 in the same lane",
+    ),
     # "whenever there is a pedestrian on its right": with one there
     (re.compile(r"\b(?:whenever|when|while|as long as) there (?:is|are) "), "with "),
     # "trucks while they are moving", "the ego vehicle while it is following X": the subject's own

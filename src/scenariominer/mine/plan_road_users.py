@@ -15,7 +15,12 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
     (r"(?:the )?(?:av|autonomous (?:car|vehicle)|test vehicle|host (?:car|vehicle))", ("EGO_VEHICLE",)),
     (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
-    (r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?", ("BICYCLIST",)),
+    (
+        r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?"
+        r"|(?:someone|somebody|persons?|people|kids?|children|child) (?:on|riding)"
+        r" (?:a |their )?(?:bikes?|bicycles?)",
+        ("BICYCLIST",),
+    ),
     (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
     (r"scooter riders?|wheeled riders?|people (?:on|riding) (?:e-|electric )?scooters", ("WHEELED_RIDER",)),
     (r"(?:bi)?cyclists?|(?:pedal )?(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),

@@ -23,6 +23,7 @@ from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
 from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
+from scenariominer.mine.plan_sets import set_wording
 
 __all__ = [
     "CATEGORY_RE",
@@ -276,7 +277,9 @@ def normalised_text(description: str) -> str:
         _spec_lines(
             learner_wording(
                 plain_notes(
-                    formal_wording(news_wording(register_wording(instruction_wording(filter_wording(text)))))
+                    formal_wording(
+                        news_wording(register_wording(instruction_wording(filter_wording(set_wording(text)))))
+                    )
                 )
             )
         )

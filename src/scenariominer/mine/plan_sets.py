@@ -1,0 +1,126 @@
+"""A search written as a set in set-builder notation, put in the words the phrase rules read.
+
+A paper defines the scenes it studies as sets: "{a ∈ V : v(a) > 10 m/s}", "{(a, t) : a ∈
+Pedestrians, d(a, ego) < 5 m}", "the set of all vehicles a such that a is on an intersection and a
+is turning left". :func:`set_wording` rewrites such a set as a filter over the named road users
+("vehicles where speed > 10 m/s", "pedestrians where dist_to_ego < 5 m"), which
+:mod:`scenariominer.mine.plan_filters` then puts in words; each rewrite keeps the meaning. A text
+with no set in it comes back as it went in.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+
+__all__ = ["set_wording"]
+
+#: Logic and comparison symbols, as a filter writes them.
+_SYMBOLS: tuple[tuple[str, str], ...] = (
+    ("∉", " not in "), ("∈", " in "), ("∧", " and "), ("∨", " or "), ("¬", " not "), ("≤", " <= "),
+    ("≥", " >= "), ("≠", " != "), ("∃", " exists "), ("−", "-"), ("·", " "), ("\\land", " and "),
+    ("\\wedge", " and "), ("\\lor", " or "), ("\\neg", " not "), ("\\leq", " <= "), ("\\le", " <= "),
+    ("\\geq", " >= "), ("\\ge", " >= "), ("\\in", " in "), ("\\mid", " | "),
+)  # fmt: skip
+#: One-letter and other names of road-user sets: name -> the road users' words.
+_SET_NAMES = {
+    "v": "vehicles", "veh": "vehicles", "p": "pedestrians", "ped": "pedestrians", "peds": "pedestrians",
+    "a": "objects", "o": "objects", "objects": "objects", "agents": "objects", "b": "buses",
+    "c": "cars", "t": "trucks",
+}  # fmt: skip
+_VAR = r"[a-z](?:_?\d)?"
+#: "{a ∈ V : ...}", "{(a, t) : ...}", "{a | ...}": the head, then the condition.
+_BRACED = re.compile(r"^\{\s*(?P<head>[^:|{}]+?)\s*(?::|\||\bs\.t\.|\bsuch that\b)\s*(?P<cond>.+?)\s*\}\.?$")
+#: "the set of (all) vehicles a such that ...": the road users, then the condition.
+_WORDED = re.compile(
+    rf"^(?:the )?set of (?:all )?(?P<users>[a-z][a-z ]*?)\s+(?P<var>{_VAR})\s+(?:such that|s\.t\.|where|with)"
+    r"\s+(?P<cond>.+)$"
+)
+#: "a ∈ V", "(a, t) in vehicles × T": a variable's road users.
+_MEMBER = re.compile(
+    rf"\(?\s*(?P<var>{_VAR})\s*(?:,\s*t\s*)?\)?\s+in\s+(?P<set>[a-z_]+(?: [a-z_]+)?)(?:\s*×\s*\w+)?"
+)
+#: Functions of the variable, as the filter fields they are: (pattern with {v}, replacement).
+_TERMS: tuple[tuple[str, str | Callable[[re.Match[str]], str]], ...] = (
+    (r"(?:\|\||‖|\|)\s*v(?:el)?\s*\(\s*{v}\s*(?:,\s*t\s*)?\)\s*(?:\|\||‖|\|)", "speed"),
+    (r"\b(?:v|vel|speed|velocity)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)", "speed"),
+    (r"\b(?:d|dist|distance)\s*\(\s*{v}\s*,\s*(?:ego|e)\s*(?:,\s*t\s*)?\)", "dist_to_ego"),
+    (r"(?:\|\||‖|\|)\s*p\s*\(\s*{v}\s*\)\s*-\s*p\s*\(\s*(?:ego|e)\s*\)\s*(?:\|\||‖|\|)", "dist_to_ego"),
+    (r"\b(?:a|acc|accel|a_x|a_long)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)", "accel_long"),
+    (r"\b(?:a_y|a_lat|lat_acc|lat_accel)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)", "lat_accel"),
+    # a predicate of the variable: "on_road(a)", "turning(a, left)", "stationary(a, t)"
+    (
+        r"\b(?P<fn>[a-z]+(?:_[a-z]+)*)\s*\(\s*{v}\s*(?:,\s*t\s*)?(?:,\s*'?(?P<arg>left|right|ego)'?\s*)?\)",
+        lambda m: " ".join(m["fn"].split("_")) + (f" {m['arg']}" if m["arg"] else ""),
+    ),
+    # "a is on an intersection", "a is turning left": the state itself
+    (r"\b{v} (?:is|are) ", ""),
+)
+
+
+def _users(name: str) -> str:
+    """A set's name as road-user words ("V" -> "vehicles", "box_trucks" -> "box trucks")."""
+    name = name.strip().lower()
+    return _SET_NAMES.get(name, " ".join(name.split("_")))
+
+
+def _one(users: str) -> str:
+    """One of a set's road users: "pedestrians" -> "a pedestrian", "buses" -> "a bus"."""
+    one = re.sub(r"(?:(?<=bus)es|s)$", "", users)
+    return ("an " if one[:1] in "aeiou" else "a ") + one
+
+
+def _others(cond: str, var: str) -> str:
+    """Other road users of the condition, as "with" clauses.
+
+    "exists p in pedestrians: d(a, p) < 5 m" -> "with a pedestrian within 5 m".
+    """
+    members = {
+        m["var"]: _users(m["set"])
+        for m in re.finditer(rf"(?:\bexists\s+)?\b(?P<var>{_VAR})\s+in\s+(?P<set>[a-z_]+)", cond)
+        if m["var"] != var
+    }
+    for other, users in members.items():
+        cond = re.sub(rf"(?:\bexists\s+)?\b{re.escape(other)}\s+in\s+[a-z_]+\s*(?::|\.|,)?", " ", cond)
+        distance = (
+            rf"\b(?:d|dist|distance)\s*\(\s*(?:{re.escape(var)}\s*,\s*{re.escape(other)}|{re.escape(other)}"
+            rf"\s*,\s*{re.escape(var)})\s*(?:,\s*t\s*)?\)\s*<=?\s*(?P<d>\d+(?:\.\d+)?)\s*(?:m\b)?"
+        )
+        cond = re.sub(distance, f"with {_one(users)} within \\g<d> m", cond)
+    return cond
+
+
+def _condition(cond: str, var: str) -> str:
+    """The condition on ``var`` as filter text ("v(a) > 10 m/s" -> "speed > 10 m/s")."""
+    cond = _others(cond, var)
+    for pattern, replacement in _TERMS:
+        cond = re.sub(pattern.replace("{v}", re.escape(var)), replacement, cond)
+    # a condition's own membership test names a category ("a in pedestrians"): already the subject
+    cond = re.sub(rf"\b{re.escape(var)}\s+in\s+[a-z_]+", "", cond)
+    cond = re.sub(r"\s*(?:,|;)\s*", " and ", cond)
+    cond = re.sub(r"(?<![<>!=])=(?!=)", "==", cond)  # a filter's equality
+    cond = re.sub(r"^(?:\s*and\s+)+|(?:\s+and\s*)+$", "", cond.strip())
+    return " ".join(re.sub(r"(?:\band\s+){2,}", "and ", cond).split())
+
+
+def set_wording(text: str) -> str:
+    """``text`` (lower case) with a set in set-builder notation as a filter; other text unchanged."""
+    if not re.search(r"[{∈∧∨]|\\in\b|\bset of\b|\bs\.t\.", text):
+        return text
+    for symbol, words in _SYMBOLS:
+        text = text.replace(symbol, words)
+    text = " ".join(text.split())
+    braced, worded = _BRACED.match(text), _WORDED.match(text)
+    if worded is not None:
+        users, var, cond = worded["users"], worded["var"], worded["cond"]
+    elif braced is not None:
+        head, cond = braced["head"], braced["cond"]
+        member = _MEMBER.search(head) or _MEMBER.search(cond)
+        if member is None:
+            return text
+        users, var = _users(member["set"]), member["var"]
+    else:
+        return text
+    cond = _condition(cond, var)
+    # "where" only before a filter's comparison (which plan_filters reads); plain words follow directly
+    return f"{users} {'where ' if re.search(r'[<>=]', cond) else ''}{cond}".strip()
