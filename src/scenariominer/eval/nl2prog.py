@@ -159,6 +159,10 @@ SPLITS: tuple[str, ...] = (
     "fresh50",
     "fresh51",
     "fresh52",
+    "fresh53",
+    "fresh54",
+    "fresh55",
+    "fresh56",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
