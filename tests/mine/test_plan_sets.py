@@ -47,3 +47,61 @@ def test_text_without_a_set_is_unchanged(text: str) -> None:
 def test_a_set_of_unknown_form_is_left_to_the_rest_of_the_reader() -> None:
     # no variable with a road-user set: nothing to name as the subject
     assert set_wording("{x : x > 3}") == "{x : x > 3}"
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh54 run (plan-reader/52): a named set, a gloss after it, set differences
+        # and unions, places, angles, counts
+        (
+            "Brake = {(c, t) : c ∈ REGULAR_VEHICLE, a_long(c, t) ≤ −1 m/s²}, passenger cars decelerating"
+            " hard",
+            "regular vehicles braking harder than 1 m/s^2",
+        ),
+        (
+            "L = {(v, t) : v ∈ VEHICLE and v is in the middle of a lane change toward its right at t}",
+            "vehicles changing lanes to the right",
+        ),
+        (
+            "Oncoming = {(v, t) : v ∈ VEHICLE ∖ {ego}, angle(travel(v, t), travel(ego, t)) ≥ 135°}",
+            "vehicles other than the ego vehicle travelling in the opposite direction to the ego vehicle",
+        ),
+        (
+            "Perp = {(c, t) : c ∈ REGULAR_VEHICLE, 45° < angle(travel(c, t), travel(ego, t)) < 135°}",
+            "regular vehicles moving perpendicular to the ego vehicle",
+        ),
+        (
+            "Lot = {(v, t) : v ∈ VEHICLE, v ∈ DrivableArea(t) ∧ v ∉ Road(t)}",
+            "vehicles in the drivable area and not on the road",
+        ),
+        (
+            "Crowd = {(v, t) : v ∈ VEHICLE, |{p ∈ Pedestrians : d(v, p) ≤ 5 m}| ≥ 3}",
+            "vehicles with at least 3 pedestrians within 5 m",
+        ),
+        (
+            "Heavy = {(h, t) : h ∈ TRUCK ∪ BOX_TRUCK ∪ LARGE_VEHICLE, d(h, intersection) ≤ 5 m}",
+            "trucks or box trucks or large vehicles within 5 m of an intersection",
+        ),
+        (
+            "X = {(p, t) : p ∈ Pedestrians, ∃ v ∈ VEHICLE such that p crosses the half-midplane ahead of v at"
+            " t}; the crossing pedestrians themselves",
+            "pedestrians crossing in front of a vehicle",
+        ),
+        (
+            "Xwalk = {(p, t) : p ∈ Pedestrians, box(p, t) ∩ crosswalk ≠ ∅ ∧ speed(p, t) ≥ 0.5 m/s}",
+            "pedestrians on a crosswalk moving faster than 0.5 m/s",
+        ),
+        (
+            "SameLane = {(v, t) : v ∈ VEHICLE ∖ {ego}, lane(v, t) belongs to the ego's lane at t}",
+            "vehicles other than the ego vehicle in the same lane as the ego vehicle",
+        ),
+        (
+            "Ahead = {(v, t) : v ∈ VEHICLE, v lies in front of the ego vehicle with box distance ≤ 20 m};"
+            " return the vehicles, not the ego",
+            "vehicles in front of the ego vehicle within 20 m",
+        ),
+    ],
+)
+def test_a_spent_run_set_builds_the_program_of_its_plain_english(written: str, plain: str) -> None:
+    assert rules_program(written) == rules_program(plain)

@@ -203,3 +203,59 @@ def test_an_own_wording_of_a_new_register_builds_the_program_of_its_plain_englis
     written: str, plain: str
 ) -> None:
     assert rules_program(written) == rules_program(plain)
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh55 and fresh56 runs (plan-reader/52): a hazard worksheet, a
+        # remote-assistance log
+        (
+            "Hazardous event: lead vehicle braking in front of a following vehicle",
+            "vehicles braking while being followed by another vehicle",
+        ),
+        (
+            "Hazardous event: vehicle on a crossing path with the ego vehicle inside the intersection",
+            "vehicles moving perpendicular to the ego vehicle inside the intersection",
+        ),
+        ("Hazardous event: non-vehicle object in the roadway", "objects other than vehicles in the roadway"),
+        ("moving vehicle leaving the road lanes", "moving vehicles not on the road"),
+        ("AV stuck behind a bus", "the ego vehicle following a bus"),
+        (
+            "vehicles approaching the intersection but not yet in it",
+            "vehicles near the intersection but not on it",
+        ),
+        (
+            "vehicle alongside us on the left going our way",
+            "vehicles alongside the ego vehicle on the left travelling in the same direction as the ego"
+            " vehicle",
+        ),
+    ],
+)
+def test_a_second_round_spent_wording_builds_the_program_of_its_plain_english(
+    written: str, plain: str
+) -> None:
+    assert rules_program(written) == rules_program(plain)
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh53 run (plan-reader/52): a family member's plain words
+        ("people out where cars can drive, parking lots included", "pedestrians in the drivable area"),
+        (
+            "anyone outside a vehicle, like walkers or bike riders, within 5 meters of our car",
+            "vulnerable road users within 5 m of the ego vehicle",
+        ),
+        ("our car driving through a crosswalk", "the ego vehicle driving across a crosswalk"),
+        ("our car creeping along under 10 miles an hour", "the ego vehicle slower than 10 mph"),
+        ("someone on a scooter", "wheeled riders"),
+    ],
+)
+def test_a_family_members_wording_builds_the_program_of_its_plain_english(written: str, plain: str) -> None:
+    assert rules_program(written) == rules_program(plain)
+
+
+def test_away_from_where_cars_drive_stays_outside_the_drivable_area() -> None:
+    program = rules_program("people strolling along well away from where cars can drive")
+    assert "scenario_not(in_drivable_area)" in program

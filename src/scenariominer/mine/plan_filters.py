@@ -188,7 +188,7 @@ _CALLS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...]
     ),
     (
         re.compile(
-            rf"\b(?:with )?\|?\s*lat(?:eral)?_?acc(?:el(?:eration)?)?\s*\|?\s*>=?\s*(?P<n>{_NUMBER})\s*"
+            rf"\b(?:with )?(?:\|\s*)?lat(?:eral)?_?acc(?:el(?:eration)?)?\s*\|?\s*>=?\s*(?P<n>{_NUMBER})\s*"
             r"(?:m/s\^?2|m/s²)?"
         ),
         r"with lateral acceleration more than \g<n> m/s^2",

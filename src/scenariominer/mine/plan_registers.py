@@ -1,4 +1,4 @@
-"""Five more registers, put in the form the phrase rules read.
+"""More registers, put in the form the phrase rules read.
 
 * a voice transcript: fillers ("um", "uh"), a self-correction ("ten no sorry twelve" -> "twelve"),
   and a restatement after a filler ("oncoming traffic um vehicles travelling the opposite way");
@@ -7,7 +7,14 @@
 * an exam question: "At which moments does the ego vehicle ...", "Excluding the ego, which vehicles
   ...", "Which vehicles perform a lane change to the left?";
 * a planner bug report: "the planner braked hard because a pedestrian stepped out in front of it",
-  "the ego got cut off by a car", "stopping for a cyclist";
+  "the ego got cut off by a car", "stopping for a cyclist" (:func:`request_sentence` keeps only the
+  request when a sentence of context comes with it: "... failed here. Find vehicles ...");
+* a hazard analysis worksheet: "Hazardous event: lead vehicle braking in front of a following
+  vehicle", ratings dropped ("(S3, E4, C2)", "ASIL B");
+* a remote-assistance log: "RA request: ego blocked by a stopped truck in its lane", "stuck behind a
+  bus", "needed a nudge";
+* a family member's everyday words: "when our car has to stop because someone is crossing", "a big
+  truck right next to us", "people out where cars can drive", "anyone outside a vehicle";
 * a traffic engineer's jargon: "executing a right-turn movement", "queued vehicles on an
   intersection approach: stopped within ...", "whose path is crossed by", "non-motorised road
   users", "the intersection box", a signal phase given as the reason ("waiting for the walk phase").
@@ -136,6 +143,25 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r",?\s*\(?\basil[- ]?(?:qm|[a-d])\b\)?"), ""),
     (re.compile(r",?\s*\(?\b(?:[sec][0-4])(?:\s*[,/;]\s*[sec][0-4]){1,2}\)?"), ""),
     (re.compile(r"[,;]\s*(?:severity|exposure|controllability)\s*[:=]?\s*[\w-]+"), ""),
+    (re.compile(r"^(?:hazardous (?:event|situation)|hazard|he|h)(?:[- ]?#?\d+)?\s*[:-]\s*"), ""),
+    (
+        re.compile(
+            r"\blead(?:ing)? (vehicles?|cars?) (braking|stopping|decelerating)( hard| suddenly)? in front of"
+            r" (?:a|another|the) following (?:vehicle|car)s?\b"
+        ),
+        r"\1 \2\3 while being followed by another vehicle",
+    ),
+    (
+        re.compile(
+            r"\bon an? (?:crossing|conflicting|perpendicular|intersecting) (?:path|course|trajectory) with\b"
+        ),
+        "moving perpendicular to",
+    ),
+    (
+        re.compile(r"\bnon-?(vehicle|pedestrian)s? (?:objects?|things?|obstacles?)\b"),
+        r"objects other than \1s",
+    ),
+    (re.compile(r"\bleaving the (?:road|roadway|carriageway)(?: lanes?)?\b"), "not on the road"),
     # a remote-assistance log: "RA request: ego blocked by a stopped truck", "needed a nudge"
     (
         re.compile(
@@ -145,8 +171,19 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
     ),
     (re.compile(r"^(?=(?:blocked|stuck) (?:by|behind)\b)"), "the ego vehicle "),
     (
-        re.compile(r"\b(?:was |is |got |were )?(?:blocked|stuck|held up) (?:by|behind) (?:an? )?"),
+        re.compile(r"\b(?:was |is |got |were )?(?:blocked|held up) (?:by|behind) (?:an? )?"),
         "stopped behind a ",
+    ),
+    (re.compile(r"\b(?:was |is |got |were )?stuck behind\b"), "following"),
+    (
+        re.compile(
+            r"\bapproaching (an?|the) (intersection|junction),? but not (?:yet )?(?:in|on|inside) it\b"
+        ),
+        r"near \1 \2 but not on it",
+    ),
+    (
+        re.compile(r"\b(?:going|heading|driving|travell?ing) (?:our|the ego(?: vehicle)?'s) way\b"),
+        "travelling in the same direction as the ego vehicle",
     ),
     (
         re.compile(
@@ -166,6 +203,29 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:has|have|had) to (stop|brake|slow down|wait)\b"), r"\1"),
     (re.compile(r"\b(?:big|huge|massive|giant) (?=trucks?\b|lorr|bus)"), ""),
     (re.compile(r"\bright next to\b"), "next to"),
+    (
+        re.compile(
+            r"\b(?<!away from )(?:out )?(?:in |on )?where (?:cars|vehicles|traffic) (?:can |could )?"
+            r"(?:drive|go|run)\b,?"
+            r"(?: (?:parking lots?|driveways?|lots?)(?: and (?:parking lots?|driveways?))? included)?"
+        ),
+        "in the drivable area",
+    ),
+    (
+        re.compile(
+            r"\b(?:anyone|anybody|people|someone|somebody|those) (?:outside|not in(?:side)?|out of)"
+            r" (?:a |any )?"
+            r"(?:vehicles?|cars?)\b"
+        ),
+        "vulnerable road users",
+    ),
+    (
+        re.compile(
+            r"\b(driving|moving|going|travell?ing|rolling) (?:through|over) (an?|the) (crosswalk"
+            r"|pedestrian crossing|zebra crossing)\b"
+        ),
+        r"\1 across \2 \3",
+    ),
     (
         re.compile(
             r"\b(?:stepped|stepping|steps|walked|walking|walks|darted|darting|darts|ran|running|runs)"
@@ -195,7 +255,12 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
         ),
         r"\1 to \2",
     ),
-    (re.compile(r"\bcrawling (?:at )?(?:below|under|less than|slower than) (?=\d)"), "slower than "),
+    (
+        re.compile(
+            r"\b(?:crawling|creeping)(?: along)? (?:at )?(?:below|under|less than|slower than) (?=\d)"
+        ),
+        "slower than ",
+    ),
     (re.compile(r"\bcrawling (?:at )?(?=(?:between )?\d)"), "moving "),
     (re.compile(r"\bwhose path is crossed by\b"), "being crossed by"),
     (re.compile(r"\s*\((?:permissive|protected|conflicting)[^()]*\)"), ""),
@@ -249,7 +314,7 @@ def request_sentence(text: str) -> str:
 
 
 def register_wording(text: str) -> str:
-    """``text`` (lower case) with the wording of these five registers put in plain terms."""
+    """``text`` (lower case) with the wording of these registers put in plain terms."""
     specification = _SPECIFICATION if text.startswith("given ") else ()
     for pattern, replacement in (*_TRANSCRIPT, *specification, *_OTHERS):
         text = pattern.sub(replacement, text)

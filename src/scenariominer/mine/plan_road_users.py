@@ -22,7 +22,12 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
         ("BICYCLIST",),
     ),
     (r"people riding motorcycles|motorcycle riders?|motorcyclists?", ("MOTORCYCLIST",)),
-    (r"scooter riders?|wheeled riders?|people (?:on|riding) (?:e-|electric )?scooters", ("WHEELED_RIDER",)),
+    (
+        r"scooter riders?|wheeled riders?|(?:someone|somebody|a person|people|persons) (?:on|riding)"
+        r" (?:an? )?(?:e-|electric )?(?:scooters?|skateboards?)"
+        r"(?: or (?:an? )?(?:e-|electric )?(?:scooters?|skateboards?))?",
+        ("WHEELED_RIDER",),
+    ),
     (r"(?:bi)?cyclists?|(?:pedal )?(?:bi)?cycles?|bikes?", ("BICYCLE", "BICYCLIST")),
     (r"motorcycles?|motorbikes?", ("MOTORCYCLE",)),
     # before "pedestrians" and "signs"

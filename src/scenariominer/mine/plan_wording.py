@@ -272,14 +272,13 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    text = request_sentence(" ".join(description.lower().split()))
+    # a set first (its gloss after the closing brace is dropped), then a request among other sentences
+    text = request_sentence(set_wording(" ".join(description.lower().split())))
     text = present_tense(
         _spec_lines(
             learner_wording(
                 plain_notes(
-                    formal_wording(
-                        news_wording(register_wording(instruction_wording(filter_wording(set_wording(text)))))
-                    )
+                    formal_wording(news_wording(register_wording(instruction_wording(filter_wording(text)))))
                 )
             )
         )
