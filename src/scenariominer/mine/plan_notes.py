@@ -45,9 +45,10 @@ _SHORTHAND: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], 
     (re.compile(r"\bon other side of (?:the )?(road|street)\b"), r"on the other side of the \1"),
     (re.compile(r"\b(?:doing|making|performing) (?:an? )?lane changes?\b"), "changing lanes"),
     (re.compile(r"\b(?:with|w/) nothing\b"), "with no objects"),
-    (re.compile(r"\b(ahead|in front(?: of (?:it|them))?)(?: in (?:its|their) lane)? (?:for|up to)"
+    # "nothing ahead in its lane for 30m": within 30 m, directly ahead when in its lane
+    (re.compile(r"\b(ahead|in front(?: of (?:it|them))?)( in (?:its|their) lane)? (?:for|up to)"
                 r" (\d+(?:\.\d+)?) ?(?:m|metres?|meters?)\b"),
-     r"directly \1 within \2 m"),
+     lambda m: f"{'directly ' if m[2] else ''}{m[1]} within {m[3]} m"),
     (re.compile(r"(?<![\w/])(?:b/c|bc|cuz|coz|bcuz)\b"), "because"),
     (re.compile(r"(?:\b(?:approx\.?|abt|roughly)\s*|~\s*)(?=\d)"), ""),
     (re.compile(r"\s*@\s*"), " at "),

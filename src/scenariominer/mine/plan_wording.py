@@ -223,7 +223,8 @@ def _spec_lines(text: str) -> str:
     "actor: vehicle; manoeuvre: right turn; condition: a pedestrian crosses in front of it" ->
     "vehicle turning right and with a pedestrian crosses in front of it"; "ego: turning left |
     location: on an intersection" -> "the ego vehicle turning left and on an intersection". At
-    least two parts, separated by ";" or "|" (or else by commas), each with a known key.
+    least two parts, separated by ";" or "|" (or else by commas); a key the table does not know
+    ("relative position: ...") is read as a condition once an actor or the ego is named.
     """
     parts = [p for p in re.split(r"\s*[;|]\s*", text.strip().rstrip(".")) if p]
     if len(parts) < 2:  # "actor=vehicle, maneuver=lane change left": parts between commas
