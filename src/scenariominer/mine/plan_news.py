@@ -48,7 +48,8 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"(?<=still |opped )right at (?=an? |the )"), "at "),
     # following: "tagging along behind X", "stuck trailing behind X", "hanging on X's tail"
     (re.compile(r"\b(?:stuck )?(?:tagging along|trailing|tailing) (?:right )?behind\b"), "following"),
-    (re.compile(r"\bstuck (?=following|behind)"), ""),
+    (re.compile(r"\bstuck (?=following)"), ""),
+    (re.compile(r"\b(?:was |is |got |were )?stuck behind\b"), "following"),
     (re.compile(r"\bhanging on (the ego vehicle|[\w ]+?)'s tail\b"), r"following \1"),
     # directions and places
     (re.compile(r"\bcoming the other way from\b"), "travelling in the opposite direction to"),

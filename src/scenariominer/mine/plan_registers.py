@@ -11,8 +11,8 @@
   request when a sentence of context comes with it: "... failed here. Find vehicles ...");
 * a hazard analysis worksheet: "Hazardous event: lead vehicle braking in front of a following
   vehicle", ratings dropped ("(S3, E4, C2)", "ASIL B");
-* a remote-assistance log: "RA request: ego blocked by a stopped truck in its lane", "stuck behind a
-  bus", "needed a nudge";
+* a remote-assistance log: "RA request: ego blocked by a stopped truck in its lane", "needed a
+  nudge";
 * a family member's everyday words: "when our car has to stop because someone is crossing", "a big
   truck right next to us", "people out where cars can drive", "anyone outside a vehicle";
 * a traffic engineer's jargon: "executing a right-turn movement", "queued vehicles on an
@@ -174,7 +174,6 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
         re.compile(r"\b(?:was |is |got |were )?(?:blocked|held up) (?:by|behind) (?:an? )?"),
         "stopped behind a ",
     ),
-    (re.compile(r"\b(?:was |is |got |were )?stuck behind\b"), "following"),
     (
         re.compile(
             r"\bapproaching (an?|the) (intersection|junction),? but not (?:yet )?(?:in|on|inside) it\b"

@@ -46,16 +46,18 @@ _MEMBER = re.compile(
     rf"\(?\s*(?P<var>{_VAR})\s*(?:,\s*t\s*)?\)?\s+in\s+(?P<set>[a-z_]+(?: or [a-z_]+)*)"
     r"(?P<minus> minus \{\s*ego\s*\})?(?:\s*×\s*\w+)?"
 )
+#: The variable as a function's argument, at a time step or not: "(a)", "(a, t)".
+_CALL = r"\s*\(\s*{v}\s*(?:,\s*t\s*)?\)"
 #: The variable or a point of its box ("centre(p, t)", "box(v)"), before a place it is in or not.
-_OF = r"\b(?:(?:centre|center|box|pos|p)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)|{v})"
+_OF = r"\b(?:(?:centre|center|box|pos|p)" + _CALL + r"|{v})"
 #: Functions of the variable, as the filter fields they are: (pattern with {v}, replacement).
 _TERMS: tuple[tuple[str, str | Callable[[re.Match[str]], str]], ...] = (
-    (r"(?:\|\||‖|\|)\s*v(?:el)?\s*\(\s*{v}\s*(?:,\s*t\s*)?\)\s*(?:\|\||‖|\|)", "speed"),
-    (r"\b(?:v|vel|speed|velocity)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)", "speed"),
+    (r"(?:\|\||‖|\|)\s*v(?:el)?" + _CALL + r"\s*(?:\|\||‖|\|)", "speed"),
+    (r"\b(?:v|vel|speed|velocity)" + _CALL, "speed"),
     (r"\b(?:d|dist|distance)\s*\(\s*{v}\s*,\s*(?:ego|e)\s*(?:,\s*t\s*)?\)", "dist_to_ego"),
     (r"(?:\|\||‖|\|)\s*p\s*\(\s*{v}\s*\)\s*-\s*p\s*\(\s*(?:ego|e)\s*\)\s*(?:\|\||‖|\|)", "dist_to_ego"),
-    (r"\b(?:a|acc|accel|a_x|a_long)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)", "accel_long"),
-    (r"\b(?:a_y|a_lat|lat_acc|lat_accel)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)", "lat_accel"),
+    (r"\b(?:a|acc|accel|a_x|a_long)" + _CALL, "accel_long"),
+    (r"\b(?:a_y|a_lat|lat_acc|lat_accel)" + _CALL, "lat_accel"),
     (
         r"\b(?:d|dist|distance)\s*\(\s*{v}\s*,\s*(?:the )?intersection\s*(?:,\s*t\s*)?\)",
         "dist_to_intersection",
@@ -87,10 +89,10 @@ _TERMS: tuple[tuple[str, str | Callable[[re.Match[str]], str]], ...] = (
         _OF + r"\s+in\s+road(?:\(t\))?",
         "on the road",
     ),
-    (r"\bbox\s*\(\s*{v}\s*(?:,\s*t\s*)?\)\s*meets\s*(?:a |the )?crosswalk\s*!=\s*empty", "on a crosswalk"),
-    (r"\b(?:centre|center)\s*\(\s*{v}\s*(?:,\s*t\s*)?\)\s+(?:is |lies )?", ""),
+    (r"\bbox" + _CALL + r"\s*meets\s*(?:a |the )?crosswalk\s*!=\s*empty", "on a crosswalk"),
+    (r"\b(?:centre|center)" + _CALL + r"\s+(?:is |lies )?", ""),
     (
-        r"\blane\s*\(\s*{v}\s*(?:,\s*t\s*)?\)\s+(?:belongs to|is|=+|equals)\s+the ego'?s? lane(?: at t)?",
+        r"\blane" + _CALL + r"\s+(?:belongs to|is|=+|equals)\s+the ego'?s? lane(?: at t)?",
         "in the same lane as the ego vehicle",
     ),
     (r"\b{v}'s\s+(?:centre|center)\s+(?:is |lies )?", ""),
