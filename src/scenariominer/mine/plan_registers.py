@@ -202,6 +202,35 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:has|have|had) to (stop|brake|slow down|wait)\b"), r"\1"),
     (re.compile(r"\b(?:big|huge|massive|giant) (?=trucks?\b|lorr|bus)"), ""),
     (re.compile(r"\bright next to\b"), "next to"),
+    # a child's words: "a crossroads", "moves into another lane", "stops for a long time",
+    # "coming toward our car"
+    (re.compile(r"\b(?:a|the) crossroads\b"), "an intersection"),
+    (
+        re.compile(
+            r"\b(?:moves?|moving|goes|going|switch(?:es|ing)?|steers?|steering) (?:over )?(?:into|to)"
+            r" (?:another|the next|a different|the other|a new) lane\b"
+        ),
+        "changing lanes",
+    ),
+    (
+        re.compile(
+            r"\b(?:(that|which|who) )?(?:stops?|stopping|stays? still|staying still|stands? still"
+            r"|standing still|(?:is|are) not moving|does(?: not|n't) move|do(?: not|n't) move) for a"
+            r" (?:long time|long while|while)\b"
+        ),
+        r"\1 is stationary",
+    ),
+    (
+        re.compile(r"^ is stationary\b|(?<= ) is stationary\b(?<!(?:that|hich| who) is stationary)"),
+        "stationary",
+    ),
+    (
+        re.compile(
+            r"\b(?:coming|driving|going) (?:straight )?(?:toward|towards)"
+            r" (?=the ego\b|us\b|our car\b|me\b)"
+        ),
+        "heading toward ",
+    ),
     (
         re.compile(
             r"\b(?<!away from )(?:out )?(?:in |on )?where (?:cars|vehicles|traffic) (?:can |could )?"

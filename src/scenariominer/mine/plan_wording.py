@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 
+from scenariominer.mine.plan_documents import document_wording, yaml_block
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_instructions import instruction_wording
@@ -160,7 +161,12 @@ def _listed_road_users(text: str) -> str:
 #: Keys of a specification line ("actor: vehicle; manoeuvre: right turn; location: ..."), by role.
 _SPEC_ROLES: dict[str, str] = {
     **dict.fromkeys(
-        ("actor", "subject", "agent", "object", "target", "road user", "type", "category"), "actor"
+        (
+            "actor", "subject", "agent", "object", "target", "road user", "type", "category", "actors",
+            "objects", "agents", "targets", "categories", "class", "object type", "actor type",
+            "object class",
+        ),
+        "actor",
     ),
     "ego": "ego",
     **dict.fromkeys(
@@ -273,8 +279,11 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    # a set first (its gloss after the closing brace is dropped), then a request among other sentences
-    text = request_sentence(set_wording(" ".join(description.lower().split())))
+    # a parameter block's lines first (it needs its line breaks), then the wording of a ticket or a
+    # clause around the request, a set (its gloss after the closing brace is dropped), a request
+    # among other sentences
+    text = document_wording(" ".join(yaml_block(description.lower()).split()))
+    text = request_sentence(set_wording(text))
     text = present_tense(
         _spec_lines(
             learner_wording(
