@@ -163,6 +163,10 @@ SPLITS: tuple[str, ...] = (
     "fresh54",
     "fresh55",
     "fresh56",
+    "fresh59",
+    "fresh60",
+    "fresh57",
+    "fresh58",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
