@@ -103,9 +103,10 @@ def plan_model() -> type[BaseModel]:
 
 def plan_messages(description: str) -> list[Message]:
     """The request that extracts a plan (prompt text in :mod:`scenariominer.mine.plan_prompts`)."""
+    from scenariominer.mine.plan_documents import request_text
     from scenariominer.mine.plan_prompts import plan_system_prompt, plan_user_prompt
 
-    return [system(plan_system_prompt(_functions())), user(plan_user_prompt(description))]
+    return [system(plan_system_prompt(_functions())), user(plan_user_prompt(request_text(description)))]
 
 
 def extract_plan(client: ChatClient, description: str, *, max_tokens: int = 300) -> dict[str, Any]:

@@ -143,7 +143,7 @@ _TOWARD_SIDE = r"(?:to(?:ward)? (?:the |its |their )?)?"
 _NEAR = r"(?:near|close to|approaching|as (?:they|it) approach(?:es)?|next to|by)"
 _IN_LANE = (
     r"(?:(?:riding |driving |cycling )?(?:in|on|inside|within|using|along|through|blocking|occupying))"
-    r" (?:a |the )?"
+    r" (?:a |the )?(?:designated |dedicated |reserved |marked )?"
 )
 _ON_X = "on_intersection"
 _SPEEDING_UP = ("accelerating", None)
@@ -406,6 +406,11 @@ PHRASES: tuple[Phrase, ...] = (
            "being_crossed_by", "in_direction='clockwise'", "forward"),
     Phrase(r"being crossed (?:in front )?from " + _ITS + r"right to " + _ITS + r"left by {obj}",
            "being_crossed_by", "in_direction='counterclockwise'", "forward"),
+    # ... on one side: the other road user crosses the line of its left or right side
+    Phrase(r"being crossed (?:on|at|from) (?:the|its|their) (?P<dir>left|right)(?: side)? by {obj}",
+           "being_crossed_by", direction="{dir}"),
+    Phrase(r"being crossed by {obj} (?:on|at|from) (?:the|its|their) (?P<dir>left|right)(?: side)?",
+           "being_crossed_by", direction="{dir}"),
     Phrase(r"being crossed by {obj}", "being_crossed_by", direction="forward"),
     # ... behind it: the other road user crosses the line of its rear bumper
     Phrase(
@@ -613,12 +618,12 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:going past|driving past|passing by) {obj}", "near_objects", "distance_thresh=20"),
     # places on the map (before the bare "near X", which would read "an intersection" as a road user)
     Phrase(
-        _IN_LANE + r"(?:bike|bicycle|cycle)(?:[- ]only)? lanes?",
+        _NOT + _IN_LANE + r"(?:bike|bicycle|cycle)(?:[- ]only)? lanes?",
         "on_lane_type", "lane_type='BIKE'",
     ),
-    Phrase(_IN_LANE + r"bus(?:[- ]only)? lanes?", "on_lane_type", "lane_type='BUS'"),
+    Phrase(_NOT + _IN_LANE + r"bus(?:[- ]only)? lanes?", "on_lane_type", "lane_type='BUS'"),
     Phrase(
-        _IN_LANE + r"(?:(?:regular|normal|general|ordinary) )?(?:vehicle|car|traffic|driving) lanes?",
+        _NOT + _IN_LANE + r"(?:(?:regular|normal|general|ordinary) )?(?:vehicle|car|traffic|driving) lanes?",
         "on_lane_type", "lane_type='VEHICLE'",
     ),
     # a parking lot or a driveway: drivable, but no road

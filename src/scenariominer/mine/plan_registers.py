@@ -26,6 +26,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
 from scenariominer.mine.plan_nouns import NP
 
@@ -75,7 +76,7 @@ _SPECIFICATION: tuple[tuple[re.Pattern[str], str], ...] = (
         r"\1 ",
     ),
 )
-_OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
+_OTHERS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
     # an exam question
     (
         re.compile(
@@ -204,6 +205,92 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\bright next to\b"), "next to"),
     # a child's words: "a crossroads", "moves into another lane", "stops for a long time",
     # "coming toward our car"
+    # ... and from the spent fresh58 run: "where roads meet", "the painted stripes where you walk
+    # across", "the lane that is only for buses", "going the other way from", "left standing"
+    (
+        re.compile(
+            r"\b(?:right )?in the (?:very )?middle of (?:the|a) (?:spot|place|bit) where (?:two |2 )?roads"
+            r" (?:meet|cross)\b"
+        ),
+        "on an intersection",
+    ),
+    (
+        re.compile(
+            r"\b(?:the |a )?(?:spot |place |bit )?where (?:two |2 )?(?:roads|streets) (?:meet|cross)\b"
+        ),
+        "an intersection",
+    ),
+    (
+        re.compile(
+            r"\b(?:on|at) the (?:painted |white |black and white |zebra )?(?:stripes|lines)"
+            r" where (?:you|people"
+            r"|we) (?:walk|go|can walk) across(?: the (?:street|road))?\b"
+        ),
+        "at a pedestrian crossing",
+    ),
+    (re.compile(r"\b(?:out )?in the (?:street|road) where (?:the )?cars (?:go|drive)\b"), "on the road"),
+    (
+        re.compile(
+            r"\b(?:moving|moves|move|going|goes|switching|switches) over from (?:their|its|his|her|the)"
+            r" (?:own )?lane into (?:the|a|another) (?:lane next to (?:it|them)|next lane|other lane"
+            r"|lane beside (?:it|them))"
+        ),
+        "changing lanes",
+    ),
+    (re.compile(r"\b(driving|going|moving|riding) along (?=behind\b)"), r"\1 "),
+    (
+        re.compile(
+            r"\bin (?:the|a) (?:special )?lane (?:that is |that's |which is )?(?:only|just) for"
+            r" (bus(?:es)?|bikes?|bicycles?)\b"
+        ),
+        lambda m: "in a bus lane" if m[1].startswith("bus") else "in a bike lane",
+    ),
+    (
+        re.compile(
+            r"\b(going|driving|moving|heading|travell?ing) the other way from (?=the ego\b|our car\b|us\b)"
+        ),
+        "travelling in the opposite direction to ",
+    ),
+    (
+        re.compile(
+            r"\bon the other (?:half|side) of the road from (the ego vehicle|the ego|our car|us)"
+            r"(?:,? where (?:the )?cars (?:drive|go) the other way)?"
+        ),
+        r"on the opposite side of the road from \1",
+    ),
+    (
+        re.compile(
+            r"\b(?:going|driving|moving|heading) (?:sideways )?across the way"
+            r" (the ego vehicle|the ego|our car|we)"
+            r" (?:is|are) (?:going|driving|heading)\b"
+        ),
+        r"travelling perpendicular to \1",
+    ),
+    (
+        re.compile(
+            r"\bthe (same|other|opposite) way (the ego vehicle|the ego|our car|we)"
+            r" (?:is|are) (?:going|driving)\b"
+        ),
+        lambda m: (
+            f"in the same direction as {m[2]}" if m[1] == "same" else f"in the opposite direction to {m[2]}"
+        ),
+    ),
+    (re.compile(r"\b(?:big |large )?box[- ]shaped (?:delivery )?(?:truck|lorry|van)(s?)\b"), r"box truck\1"),
+    (
+        re.compile(r"\bshort (?:metal |concrete )?posts?(?: (?:in|sticking out of|stuck in) the ground)?\b"),
+        "bollards",
+    ),
+    (re.compile(r"\bclose by,? (\d+(?:\.\d+)?) ?(m|meters|metres) or (?:less|closer)\b"), r"within \1 \2"),
+    (
+        re.compile(
+            r"\b(?:that are |which are )?(?:just )?left standing(?: (?:still|there))?"
+            r"(?: and (?:nobody|no one) (?:moves|touches) (?:them|it))?\b"
+        ),
+        "stationary",
+    ),
+    (re.compile(r",? (?:the )?(?:parked|stopped) ones (?:too|as well|included)\b"), ""),
+    (re.compile(r"\b(with (?:an?|some|\d+) [a-z]+) standing (?=within \d|close by|nearby|near\b)"), r"\1 "),
+    (re.compile(r"\b(walking|moving),? not (?:just )?standing (?:around|still)\b"), r"\1"),
     (re.compile(r"\b(?:a|the) crossroads\b"), "an intersection"),
     (
         re.compile(
@@ -247,6 +334,8 @@ _OTHERS: tuple[tuple[re.Pattern[str], str], ...] = (
         ),
         "vulnerable road users",
     ),
+    # "people, bikes and scooters, anyone not inside a car, ...": the list names them again
+    (re.compile(r"^(?:[a-z]+, )*[a-z]+,? (?:and|or) [a-z]+, (?=vulnerable road users\b)"), ""),
     (
         re.compile(
             r"\b(driving|moving|going|travell?ing|rolling) (?:through|over) (an?|the) (crosswalk"

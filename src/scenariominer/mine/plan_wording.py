@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from scenariominer.mine.plan_documents import document_wording, yaml_block
+from scenariominer.mine.plan_documents import document_wording
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_instructions import instruction_wording
@@ -25,6 +25,7 @@ from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, 
 from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_sets import set_wording
+from scenariominer.mine.plan_yaml import yaml_block
 
 __all__ = [
     "CATEGORY_RE",

@@ -28,6 +28,7 @@ from scenariominer.llm.embeddings import Embedder, Embeddings
 from scenariominer.llm.errors import StructuredOutputError
 from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.plan import extract_plan, plan_text
+from scenariominer.mine.plan_documents import request_text
 from scenariominer.mine.plan_reader import rules_plan
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
@@ -234,7 +235,9 @@ class ProgramSynthesizer:
         """The first request for ``description`` (system message, examples, description, plan)."""
         plan = self.plan_for(description)
         shown = plan_text(plan) if plan and "error" not in plan else None
-        return build_messages(description, self.examples_for(description), self.config.reference_style, shown)
+        # the request as written, without a ticket's key or a clause's number around it
+        text = request_text(description)
+        return build_messages(text, self.examples_for(description), self.config.reference_style, shown)
 
     def generate(
         self, messages: Sequence[Message], *, temperature: float | None = None, seed: int | None = None
