@@ -7,7 +7,12 @@
   read as "trucks turning right", and contract wording of places, distances and directions is put
   plainly ("whose footprint overlaps a marked pedestrian crossing" -> "on a marked pedestrian
   crossing", "from no further than 25 metres away" -> "within 25 metres", "braking firmly, that is,
-  decelerating at 2 m/s² or more" -> the definition).
+  decelerating at 2 m/s² or more" -> the definition);
+* a requirement in EARS form: "When a pedestrian is within 5 m of the ego vehicle, the system shall
+  return the pedestrian" -> "a pedestrian within 5 m of the ego vehicle";
+* a tag path: "vehicle/lane_change/left" -> "vehicle changing lanes to the left";
+* OpenSCENARIO's names: "Entity vehicle, SpeedCondition greaterThan 10 m/s" -> "vehicle faster
+  than 10 m/s", "performs LaneChangeAction to the left" -> "changing lanes to the left".
 
 :func:`document_wording` reads the joined lower-case text; :func:`request_text` gives the
 description as written without the ticket or clause wording (what the language model is shown).
@@ -20,7 +25,7 @@ import re
 
 from scenariominer.mine.plan_nouns import NP
 
-__all__ = ["document_wording", "request_text"]
+__all__ = ["camel_words", "document_wording", "request_text"]
 
 #: The wording around the request in a ticket title or a contract clause: its key and tags, its
 #: number, "the supplier shall deliver" (matched in any case: :func:`request_text` reads the
@@ -146,6 +151,18 @@ _DOCUMENT: tuple[tuple[re.Pattern[str], str], ...] = (
 )
 
 
+#: OpenSCENARIO's CamelCase names and rule words: "LaneChangeAction", "greaterThan".
+_CAMEL = re.compile(
+    r"\b(?:[A-Z][a-z]+){1,4}(?:Condition|Action|Position|Participant|Ref|Trigger|Event|Maneuver|Entity)\b"
+    r"|\b(?:greaterThan|lessThan|equalTo|greaterOrEqual|lessOrEqual|notEqualTo)\b"
+)
+
+
+def camel_words(description: str) -> str:
+    """``description`` with OpenSCENARIO's CamelCase names split ("SpeedCondition" -> "Speed Condition")."""
+    return _CAMEL.sub(lambda m: re.sub(r"(?<=[a-z])(?=[A-Z])", " ", m[0]), description)
+
+
 def request_text(description: str) -> str:
     """``description`` as written, without the ticket or clause wording before the request.
 
@@ -158,8 +175,166 @@ def request_text(description: str) -> str:
     return text or description
 
 
+#: "the system shall return": the requirement's response (EARS), the system being the search.
+_SHALL = (
+    r"the (?:system|scenario search|search|search engine|tool|miner|software|function|application|query"
+    r"|scenario miner|mining tool) shall (?:return|select|report|output|flag|identify|list|retrieve|provide"
+    r"|detect|mark|tag|label|find|include|highlight|extract|deliver)(?: as (?:a )?(?:match(?:es)?|results?))?"
+)
+#: A requirement in EARS form: "When/While/If/Where <condition>, the system shall return <objects>".
+_EARS = re.compile(
+    rf"^(?P<kind>when|while|if|where|whenever|in case) (?P<cond>.+?),? {_SHALL} (?P<target>.+?)\.?$"
+)
+_EARS_PLAIN = re.compile(rf"^{_SHALL} (?P<target>.+?)\.?$")
+#: The response names the condition's subject again: "the pedestrian", "that bus", "it".
+_BACK_REFERENCE = re.compile(
+    r"^(?:(?:the|that|this|those|these|such|each such|every such|all such|the same|said) (?:[a-z]+ ?){1,3}"
+    r"|it|them|they|that object|those objects)"
+    r"(?: (?:at (?:those|these|that|the) (?:times|moments|timestamps|frames)"
+    r"|in (?:those|these|that|the) frames?))?$"
+)
+
+
+def requirement_wording(text: str) -> str:
+    """A requirement in EARS form as the request it states.
+
+    "when a pedestrian is within 5 m of the ego vehicle, the system shall return the pedestrian" ->
+    "a pedestrian within 5 m of the ego vehicle"; "while the ego vehicle is turning left, the system
+    shall return pedestrians in front of it" -> "pedestrians in front of it while the ego vehicle is
+    turning left"; "the system shall return all vehicles that ..." -> "all vehicles that ...".
+    """
+    if (plain := _EARS_PLAIN.match(text)) is not None:
+        return plain["target"]
+    found = _EARS.match(text)
+    if found is None:
+        return text
+    cond = re.sub(r"^the object is (?:an? |the )?", "", found["cond"])
+    cond = re.sub(r",? (?:and )?when (?:it|they) (?:is|are) ", " ", cond)
+    if _BACK_REFERENCE.match(found["target"]):
+        # the condition is about the objects returned: "a pedestrian is within" -> "a pedestrian within"
+        return re.sub(
+            r"^((?:an?|the|any|some) )?([a-z -]+?) (?:is|are) (?!(?:a|an)\b)", r"\1\2 ", cond, count=1
+        )
+    return f"{found['target']} while {cond}"
+
+
+#: A scenario named as a tag path: "vehicle/lane_change/left", "ped.crossing.in_front_of_ego".
+_TAG_PATH = re.compile(r"^[a-z][a-z0-9_-]*(?:[./][a-z0-9_-]+)+$")
+_TAG_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"\blane ?changes?(?: ?(left|right))?\b"), r"changing lanes to the \1"),
+    (re.compile(r"changing lanes to the (?= |$)"), "changing lanes "),
+    (re.compile(r"\b(left|right) ?turns?\b"), r"turning \1"),
+    (re.compile(r"\bturns? (left|right)\b"), r"turning \1"),
+    (
+        re.compile(
+            r"\b(?:speed|velocity) (?:above|over|gt|min|greater than|faster than)"
+            r" (\d+(?:\.\d+)?) ?(mps|ms|m/s)?\b"
+        ),
+        r"faster than \1 m/s",
+    ),
+    (
+        re.compile(
+            r"\b(?:speed|velocity) (?:below|under|lt|max|less than|slower than)"
+            r" (\d+(?:\.\d+)?) ?(mps|ms|m/s)?\b"
+        ),
+        r"slower than \1 m/s",
+    ),
+    (re.compile(r"\b(above|over|below|under) (\d+(?:\.\d+)?) ?(?:mps|ms)\b"), r"\1 \2 m/s"),
+    (re.compile(r"\b(within|under|lt) (\d+(?:\.\d+)?) ?m\b"), r"within \2 m"),
+    (re.compile(r"\bnear (ego|an? [a-z]+) within (\d+(?:\.\d+)?) m\b"), r"within \2 m of \1"),
+    (
+        re.compile(
+            r"\b(following|facing|approaching|near|behind|overtaking|passing)"
+            r" (?=(?:regular vehicle|vehicle|pedestrian|truck|bus|bicycle|car|box truck)\b)"
+        ),
+        r"\1 a ",
+    ),
+    (
+        re.compile(r"\b(following|facing|approaching|near|behind|overtaking|passing|front of|of) ego\b"),
+        r"\1 the ego vehicle",
+    ),
+)
+
+
+def tag_path(text: str) -> str:
+    """A tag path as words: "vehicle/lane_change/left" -> "vehicle changing lanes to the left"."""
+    if _TAG_PATH.match(text) is None:
+        return text
+    text = " ".join(re.split(r"[./_-]+", text))
+    for pattern, replacement in _TAG_WORDS:
+        text = pattern.sub(replacement, text)
+    return " ".join(text.split())
+
+
+#: OpenSCENARIO's names: entities, actions and conditions ("LaneChangeAction", "SpeedCondition").
+_SCENARIO_NAMES: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"\b(?:traffic participant|entity ref|entity) (?=[a-z])"), ""),
+    (
+        re.compile(
+            r"\b(?:performs|executes|does|carries out) (?:an? )?lane change action"
+            r"(?: to(?:wards?)? the (left|right))?"
+        ),
+        r"changing lanes to the \1",
+    ),
+    (re.compile(r"changing lanes to the (?=[.;,]|$| )"), "changing lanes "),
+    (re.compile(r"\b(?:performs|executes|does) (?:an? )?(left|right) turn\b"), r"turning \1"),
+    (
+        re.compile(r"\brouting action (?:turn|turning) (left|right)(?: at (?:a |the )?junction)?"),
+        r"turning \1 at an intersection",
+    ),
+    (
+        re.compile(r"[.;,]? (?:with )?(?:condition: )?speed condition (?:greater than|greater|above|gt) "),
+        " faster than ",
+    ),
+    (
+        re.compile(r"[.;,]? (?:with )?(?:condition: )?speed condition (?:less than|lower than|below|lt) "),
+        " slower than ",
+    ),
+    (
+        re.compile(
+            r"[.;,]? (?:with )?(?:condition: )?speed condition (?:equal to|equals?|eq|==|=)"
+            r" 0(?:\.0)?(?: m/s)?"
+        ),
+        " stopped",
+    ),
+    (
+        re.compile(
+            r"[.;,]? (?:condition: )?relative distance condition (?:to|from|relative to)"
+            r" (ego|the ego vehicle|an? [a-z ]+?) (?:less than|lessthan|below|under|<) (\d+(?:\.\d+)?) ?m\b"
+        ),
+        r" within \2 m of \1",
+    ),
+    (re.compile(r"\btime headway condition:? "), ""),
+    (
+        re.compile(
+            r"[.;,]? (?:relative )?lane position: same lane as (ego|the ego vehicle),?"
+            r" (?:and )?(ahead|in front|behind)\b"
+        ),
+        r" in the same lane as \1 and \2 of \1",
+    ),
+    (re.compile(r"\bbehind of\b"), "behind"),
+    (re.compile(r"\. (?:condition|trigger|start trigger): "), " "),
+)
+
+
+#: The entity a statement is about: "Entity: truck; ..." (a key of a specification line when parts
+#: follow after ";"), "EntityRef vehicle, ...".
+_ENTITY = re.compile(
+    r"(?:^|(?<=[;,.] ))(?:entity ref|entity|scenario object|traffic participant)(?::|,)? |^actor (?=[a-z])"
+)
+
+
+def scenario_names(text: str) -> str:
+    """OpenSCENARIO's names in plain words (text in lower case, CamelCase already split)."""
+    text = _ENTITY.sub(lambda m: "actor: " if m.start() == 0 and ";" in text else "", text)
+    for pattern, replacement in _SCENARIO_NAMES:
+        text = pattern.sub(replacement, text)
+    return " ".join(text.split())
+
+
 def document_wording(text: str) -> str:
     """``text`` (lower case, one line) without the ticket or clause wording around the request."""
+    text = scenario_names(tag_path(requirement_wording(text)))
     for pattern, replacement in _DOCUMENT:
         text = pattern.sub(replacement, text)
     return text

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from scenariominer.mine.plan_documents import document_wording
+from scenariominer.mine.plan_documents import camel_words, document_wording
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_instructions import instruction_wording
@@ -25,6 +25,7 @@ from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, 
 from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_sets import set_wording
+from scenariominer.mine.plan_spelling import corrected_spelling
 from scenariominer.mine.plan_yaml import yaml_block
 
 __all__ = [
@@ -280,10 +281,11 @@ def normalised_text(description: str) -> str:
     from X" -> "the car 3 cars forward from X"; "two cars back from X" (no subject) -> "vehicle 2
     cars back from X".
     """
-    # a parameter block's lines first (it needs its line breaks), then the wording of a ticket or a
-    # clause around the request, a set (its gloss after the closing brace is dropped), a request
-    # among other sentences
-    text = document_wording(" ".join(yaml_block(description.lower()).split()))
+    # typing slips put right and CamelCase names split, a parameter block's lines (it needs its
+    # line breaks), then the wording of a ticket, a clause or a requirement around the request, a
+    # set (its gloss after the closing brace is dropped), a request among other sentences
+    text = corrected_spelling(camel_words(description).lower())
+    text = document_wording(" ".join(yaml_block(text).split()))
     text = request_sentence(set_wording(text))
     text = present_tense(
         _spec_lines(
