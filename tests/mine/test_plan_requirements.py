@@ -98,3 +98,112 @@ def test_camel_case_is_split_only_in_openscenario_names() -> None:
 )
 def test_text_that_is_no_requirement_or_tag_path_is_unchanged(text: str) -> None:
     assert document_wording(text) == text
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh62 run (plan-reader/55)
+        ("Bus entity at standstill.", "stopped buses"),
+        (
+            "Any entity on the road within 10 m of the ego while the ego turns right.",
+            "objects on the road within 10 m of the ego vehicle while the ego vehicle is turning right",
+        ),
+        (
+            "Ego travelling on a lane of type vehicle, outside any junction.",
+            "the ego vehicle travelling on a vehicle lane not on an intersection",
+        ),
+    ],
+)
+def test_openscenario_wording_from_the_spent_run(written: str, plain: str) -> None:
+    assert rules_program(written) == rules_program(plain)
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh63 run (plan-reader/55): the response naming the condition's subject
+        # with more words, or the condition's other road user
+        (
+            "When any motor vehicle decelerates at more than 2 m/s², the system shall return that"
+            " vehicle while it brakes.",
+            "motor vehicles decelerating at more than 2 m/s²",
+        ),
+        (
+            "If a vehicle that is not parked comes to a momentary standstill, then the system shall"
+            " return that vehicle while it is standing.",
+            "vehicles that are not parked momentarily halted",
+        ),
+        (
+            "While a vehicle has another vehicle on its left side no more than 3 m away, the system"
+            " shall return the vehicle that has the neighbour.",
+            "vehicles with another vehicle on its left side within 3 m",
+        ),
+        (
+            "When a pedestrian walks across the path directly in front of a vehicle, the system"
+            " shall return the vehicle being crossed.",
+            "vehicles with a pedestrian crossing in front of them",
+        ),
+        (
+            "While at least three pedestrians are within 15 m of a vehicle, the system shall return that"
+            " vehicle.",
+            "vehicles with at least 3 pedestrians within 15 m",
+        ),
+        (
+            "While a pedestrian is facing the ego vehicle within a 30-degree half-angle, the system"
+            " shall return the pedestrian.",
+            "pedestrians facing the ego vehicle within 30 degrees",
+        ),
+        (
+            "While a motor vehicle occupies a bike lane, the system shall return that vehicle.",
+            "motor vehicles in a bike lane",
+        ),
+        (
+            "While a pedestrian's footprint overlaps a marked pedestrian crossing, the system shall"
+            " return that pedestrian.",
+            "pedestrians on a pedestrian crossing",
+        ),
+        (
+            "If a moving vehicle has no other vehicle ahead of it within 30 m, then the system shall"
+            " return the moving vehicle.",
+            "moving vehicles with no other vehicle ahead of it within 30 m",
+        ),
+    ],
+)
+def test_requirements_from_the_spent_run(written: str, plain: str) -> None:
+    assert rules_program(written) == rules_program(plain)
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        # from the spent fresh64 run (plan-reader/55): units run into numbers, a bare distance last
+        ("regular_vehicle/braking/hard_below_minus_2mps2", "cars braking harder than 2 m/s²"),
+        ("ego.near.construction_cone.within_5m", "the ego vehicle within 5 m of a construction cone"),
+        ("pedestrian.near_other_pedestrians.min_2", "pedestrians near at least 2 other pedestrians"),
+        ("ego/vehicle_ahead/within_10m", "vehicles in front of the ego vehicle within 10 m"),
+        (
+            "vehicle/same_lane_as_ego/behind_ego",
+            "vehicles in the same lane as the ego vehicle behind the ego vehicle",
+        ),
+        (
+            "pedestrian/walking/on_road/off_crosswalk",
+            "pedestrians walking on the road not at a pedestrian crossing",
+        ),
+        (
+            "vehicle/lateral_accel/left_over_2mps2",
+            "vehicles with a lateral acceleration to the left of more than 2 m/s²",
+        ),
+        ("vehicle.stopped.near_intersection.10m", "vehicles stopped within 10 m of an intersection"),
+        ("vulnerable_road_user/near/ego/5m", "vulnerable road users within 5 m of the ego vehicle"),
+        ("vehicle.right_side.pedestrian.within_4m", "vehicles with a pedestrian on its right within 4 m"),
+        ("vehicle/ahead/at_least_2_vehicles/20m", "vehicles with at least 2 vehicles ahead within 20 m"),
+        ("pedestrian/drivable_area/off_road", "pedestrians in the drivable area not on the road"),
+        ("vehicle.non_regular.moving", "vehicles other than regular vehicles moving"),
+        ("vehicle/facing/pedestrian/15m", "vehicles facing a pedestrian within 15 m"),
+        ("bollard.near.moving_vehicle.2m", "bollards within 2 m of a moving vehicle"),
+        ("vehicle_incl_bicycle/moving/on_road", "vehicles or bicycles moving on the road"),
+    ],
+)
+def test_tag_paths_from_the_spent_run(written: str, plain: str) -> None:
+    assert rules_program(written) == rules_program(plain)

@@ -50,3 +50,20 @@ def test_slips_are_put_right(typed: str, meant: str) -> None:
 )
 def test_known_words_are_never_changed(text: str) -> None:
     assert corrected_spelling(text) == text
+
+
+@pytest.mark.parametrize(
+    ("typed", "meant"),
+    [
+        # from the spent fresh61 run (plan-reader/55): short slips, a slip that spells another word
+        ("vehicles in the same lane as teh ego", "vehicles in the same lane as the ego vehicle"),
+        ("busses on the intersection", "buses on an intersection"),
+        (
+            "cars that get a pedestrian crossing in frnot of them",
+            "cars with a pedestrian crossing in front of them",
+        ),
+        ("vehicels driving around in a parkinglot", "vehicles in a parking lot"),
+    ],
+)
+def test_slips_from_the_spent_run_are_put_right(typed: str, meant: str) -> None:
+    assert rules_program(typed) == rules_program(meant)

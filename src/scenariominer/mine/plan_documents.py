@@ -22,8 +22,9 @@ A parameter block in YAML style is read by :mod:`scenariominer.mine.plan_yaml`.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
-from scenariominer.mine.plan_nouns import NP
+from scenariominer.mine.plan_nouns import NP, SUBJECT
 
 __all__ = ["camel_words", "document_wording", "request_text"]
 
@@ -183,25 +184,68 @@ _SHALL = (
 )
 #: A requirement in EARS form: "When/While/If/Where <condition>, the system shall return <objects>".
 _EARS = re.compile(
-    rf"^(?P<kind>when|while|if|where|whenever|in case) (?P<cond>.+?),? {_SHALL} (?P<target>.+?)\.?$"
+    rf"^(?P<kind>when|while|if|where|whenever|in case) (?P<cond>.+?),? (?:then )?{_SHALL} (?P<target>.+?)\.?$"
 )
 _EARS_PLAIN = re.compile(rf"^{_SHALL} (?P<target>.+?)\.?$")
-#: The response names the condition's subject again: "the pedestrian", "that bus", "it".
-_BACK_REFERENCE = re.compile(
-    r"^(?:(?:the|that|this|those|these|such|each such|every such|all such|the same|said) (?:[a-z]+ ?){1,3}"
-    r"|it|them|they|that object|those objects)"
-    r"(?: (?:at (?:those|these|that|the) (?:times|moments|timestamps|frames)"
-    r"|in (?:those|these|that|the) frames?))?$"
+#: The response names the condition's subject again: "it", "them", "that object".
+_PRONOUN = re.compile(r"^(?:it|them|they|that object|those objects|the object|the objects)$")
+#: What the response adds about time or the relation: "while it brakes", "during the turn", "that
+#: has the neighbour", "being crossed".
+_RESPONSE_TAIL = re.compile(
+    r" (?:(?:while|when|as|during|at|in|for) (?:it|they|the|that|those|these|its|their)\b|(?:that|which|who)"
+    r" (?:has|have|is|are)\b|being\b).*$"
 )
+_DEMONSTRATIVE = re.compile(
+    r"^(?:the|that|this|those|these|such|each such|every such|all such|the same|said) "
+)
+#: The condition's subject and its verb: "a pedestrian is ...", "a vehicle has another ...".
+_CONDITION_VERB: tuple[tuple[re.Pattern[str], str], ...] = (
+    (
+        re.compile(
+            r"^((?:an?|the|any|some|at least \w+) )?((?:(?!\b(?:that|which|who)\b)[a-z' -])+?)"
+            r" (?:is|are) (?!(?:a|an)\b)"
+        ),
+        r"\1\2 ",
+    ),
+    (
+        re.compile(r"\bwithin an? (\d+(?:\.\d+)?)[- ]degrees? (?:half[- ]angle|cone|angle|sector)\b"),
+        r"within \1 degrees",
+    ),
+    (re.compile(r"\boccup(?:y|ies) (?=(?:an?|the) (?:[a-z-]+ )?lane\b)"), "in "),
+    (
+        re.compile(
+            r"^((?:an?|the|any|some) )?([a-z -]+?) (?:has|have) (?=(?:an?|another|no|some|\d+|at least)\b)"
+        ),
+        r"\1\2 with ",
+    ),
+    (
+        re.compile(r"\bcomes? to a (?:momentary |brief |short )?(?:standstill|stop|halt)\b"),
+        "momentarily halted",
+    ),
+    (
+        re.compile(r"\b(?:walks?|runs?|steps?) across the path (?:directly )?in front of\b"),
+        "crossing in front of",
+    ),
+    (re.compile(r"'s (?:footprint|bounding box|box|body) (?:overlaps|intersects|touches) "), " on "),
+    (re.compile(r"\baccelerates? forward\b"), "accelerating"),
+)
+
+
+def _head(phrase: str) -> str:
+    """The last word of a noun phrase, in the singular ("motor vehicles" -> "vehicle")."""
+    word = phrase.split()[-1] if phrase.split() else ""
+    return word[:-2] if word.endswith("ses") else word.rstrip("s")
 
 
 def requirement_wording(text: str) -> str:
     """A requirement in EARS form as the request it states.
 
     "when a pedestrian is within 5 m of the ego vehicle, the system shall return the pedestrian" ->
-    "a pedestrian within 5 m of the ego vehicle"; "while the ego vehicle is turning left, the system
-    shall return pedestrians in front of it" -> "pedestrians in front of it while the ego vehicle is
-    turning left"; "the system shall return all vehicles that ..." -> "all vehicles that ...".
+    "a pedestrian within 5 m of the ego vehicle"; "while at least 3 pedestrians are within 15 m of
+    a vehicle, the system shall return that vehicle" -> "vehicle with at least 3 pedestrians within
+    15 m"; "while the ego vehicle is turning left, the system shall return pedestrians in front of
+    it" -> "pedestrians in front of it while the ego vehicle is turning left"; "the system shall
+    return all vehicles that ..." -> "all vehicles that ...".
     """
     if (plain := _EARS_PLAIN.match(text)) is not None:
         return plain["target"]
@@ -210,17 +254,32 @@ def requirement_wording(text: str) -> str:
         return text
     cond = re.sub(r"^the object is (?:an? |the )?", "", found["cond"])
     cond = re.sub(r",? (?:and )?when (?:it|they) (?:is|are) ", " ", cond)
-    if _BACK_REFERENCE.match(found["target"]):
-        # the condition is about the objects returned: "a pedestrian is within" -> "a pedestrian within"
-        return re.sub(
-            r"^((?:an?|the|any|some) )?([a-z -]+?) (?:is|are) (?!(?:a|an)\b)", r"\1\2 ", cond, count=1
-        )
-    return f"{found['target']} while {cond}"
+    clause = cond  # the condition as a clause, for a response about something else
+    for pattern, replacement in _CONDITION_VERB:
+        cond = pattern.sub(replacement, cond, count=1)
+    target = found["target"]
+    named = _DEMONSTRATIVE.sub("", _RESPONSE_TAIL.sub("", target))
+    subject = SUBJECT.match(cond)
+    demonstrative = _DEMONSTRATIVE.match(target) is not None
+    if _PRONOUN.match(named) or (
+        demonstrative and subject is not None and _head(named) == _head(subject["noun"])
+    ):
+        return cond  # the condition is about the objects returned
+    # the objects returned are the other road user of the condition: "... within 15 m of a vehicle"
+    other = re.match(
+        rf"^(?P<rest>.+?) (?P<rel>in front of|behind|ahead of|next to|of|near|close to) (?:an?|the)"
+        rf" (?:\w+ )?{_head(named)}s?$",
+        cond,
+    )
+    if other is not None and demonstrative:
+        rel = "" if other["rel"] in ("of", "near", "close to") else f" {other['rel']} them"
+        return f"{named} with {other['rest']}{rel}"
+    return f"{target} while {clause}"
 
 
 #: A scenario named as a tag path: "vehicle/lane_change/left", "ped.crossing.in_front_of_ego".
 _TAG_PATH = re.compile(r"^[a-z][a-z0-9_-]*(?:[./][a-z0-9_-]+)+$")
-_TAG_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
+_TAG_WORDS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
     (re.compile(r"\blane ?changes?(?: ?(left|right))?\b"), r"changing lanes to the \1"),
     (re.compile(r"changing lanes to the (?= |$)"), "changing lanes "),
     (re.compile(r"\b(left|right) ?turns?\b"), r"turning \1"),
@@ -240,8 +299,38 @@ _TAG_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
         r"slower than \1 m/s",
     ),
     (re.compile(r"\b(above|over|below|under) (\d+(?:\.\d+)?) ?(?:mps|ms)\b"), r"\1 \2 m/s"),
-    (re.compile(r"\b(within|under|lt) (\d+(?:\.\d+)?) ?m\b"), r"within \2 m"),
-    (re.compile(r"\bnear (ego|an? [a-z]+) within (\d+(?:\.\d+)?) m\b"), r"within \2 m of \1"),
+    # units run into their numbers, a bare distance as the last level: "2mps2", "10m"
+    (re.compile(r"\b(\d+(?:\.\d+)?) ?mps2\b"), r"\1 m/s²"),
+    (re.compile(r"\bminus (\d+(?:\.\d+)?) m/s²"), r"-\1 m/s²"),
+    (
+        re.compile(r"^ego (vehicle|pedestrian|car|truck|bus|cyclist|object)s? (ahead|in front|behind)\b"),
+        lambda m: f"{m[1]} {'behind' if m[2] == 'behind' else 'in front of'} the ego vehicle",
+    ),
+    (
+        re.compile(r"\bbraking (?:hard )?(?:below|under) -(\d+(?:\.\d+)?) m/s²"),
+        r"braking harder than \1 m/s²",
+    ),
+    (re.compile(r"\b(within|under|lt|max) (\d+(?:\.\d+)?) ?m\b"), r"within \2 m"),
+    (re.compile(r"(?<!within )(?<!\d)\b(\d+(?:\.\d+)?) ?m$"), r"within \1 m"),
+    (
+        re.compile(r"\blateral acc(?:el|eleration)? (left|right) (?:over|above|gt|min) (\d+(?:\.\d+)?) m/s²"),
+        r"with a lateral acceleration to the \1 of more than \2 m/s²",
+    ),
+    (re.compile(r"\bnear (other )?([a-z]+) min (\d+)\b"), r"near at least \3 \1\2"),
+    (
+        re.compile(r"\b(left|right) side (?:an? )?([a-z ]+?) within (\d+(?:\.\d+)?) m\b"),
+        r"with a \2 on its \1 within \3 m",
+    ),
+    (re.compile(r"\bahead (at least \d+ [a-z]+s) within (\d+(?:\.\d+)?) m\b"), r"with \1 ahead within \2 m"),
+    (re.compile(r"(?<!the )\bsame lane as (ego|an? [a-z]+)\b"), r"in the same lane as \1"),
+    (re.compile(r"\boff (?:the )?(?:crosswalk|pedestrian crossing|xwalk)\b"), "not at a pedestrian crossing"),
+    (re.compile(r"(?<!in the )\bdrivable area\b"), "in the drivable area"),
+    (re.compile(r"^vehicle non regular\b"), "vehicles other than regular vehicles"),
+    (re.compile(r"^vehicle incl(?:uding)? (bicycle|bike)s?\b"), "vehicles or bicycles"),
+    (
+        re.compile(r"\bnear ((?:other |moving )?(?:ego|[a-z]+(?: [a-z]+)?)) within (\d+(?:\.\d+)?) m\b"),
+        r"within \2 m of \1",
+    ),
     (
         re.compile(
             r"\b(following|facing|approaching|near|behind|overtaking|passing)"
@@ -267,8 +356,19 @@ def tag_path(text: str) -> str:
 
 
 #: OpenSCENARIO's names: entities, actions and conditions ("LaneChangeAction", "SpeedCondition").
-_SCENARIO_NAMES: tuple[tuple[re.Pattern[str], str], ...] = (
+_SCENARIO_NAMES: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...] = (
+    (
+        re.compile(r"\b(?:any|every|all) (?:entity|entities|scenario objects?|traffic participants?)\b"),
+        "objects",
+    ),
     (re.compile(r"\b(?:traffic participant|entity ref|entity) (?=[a-z])"), ""),
+    (re.compile(r"\b(?:entity|entities) (?=at\b|on\b|in\b|with\b|that\b|which\b)"), ""),
+    (re.compile(r"(?<!waiting )\bat standstill\b"), "stopped"),
+    (
+        re.compile(r"\b(while|when|as) the ego(?: vehicle)? (turn|chang|brak|accelerat|decelerat)(?:es|s) "),
+        lambda m: f"{m[1]} the ego vehicle is {m[2]}ing ",
+    ),
+    (re.compile(r"\boutside (?:any|an?|the) (?:junction|intersection)s?\b"), "not on an intersection"),
     (
         re.compile(
             r"\b(?:performs|executes|does|carries out) (?:an? )?lane change action"

@@ -239,6 +239,11 @@ _OTHERS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...
     ),
     (re.compile(r"\b(driving|going|moving|riding) along (?=behind\b)"), r"\1 "),
     (
+        re.compile(r"\b(driving|going|moving|riding|walking|wandering) around (?=in\b|on\b|inside\b|near\b)"),
+        r"\1 ",
+    ),
+    (re.compile(r"\b(that|which|who) (?:get|gets|got|getting) (?=(?:an?|some|another|\d+) )"), "with "),
+    (
         re.compile(
             r"\bin (?:the|a) (?:special )?lane (?:that is |that's |which is )?(?:only|just) for"
             r" (bus(?:es)?|bikes?|bicycles?)\b"

@@ -21,6 +21,13 @@ from typing import Any
 __all__ = ["corrected_spelling"]
 
 _WORD = re.compile(r"[a-z]{4,}")
+#: Slips too short for the nearest-word search, or that spell another English word ("busses").
+_SLIPS = {
+    "teh": "the", "hte": "the", "adn": "and", "nad": "and", "busses": "buses", "thier": "their",
+    # abbreviations the nearest-word search would take for slips ("incl" is no "inch")
+    "incl": "including", "excl": "excluding", "approx": "about",
+}  # fmt: skip
+_SLIP = re.compile(rf"\b(?:{'|'.join(_SLIPS)})\b")
 
 
 @cache
@@ -110,6 +117,7 @@ def _nearest(word: str, candidates: set[str], dictionary: Any) -> str:
 
 def corrected_spelling(text: str) -> str:
     """``text`` (lower case) with its typing slips put right; unchanged without a dictionary."""
+    text = _SLIP.sub(lambda m: _SLIPS[m[0]], text)
     words = [w for w in _WORD.findall(text) if w not in _rules_vocabulary()]
     if not words:
         return text
