@@ -167,6 +167,10 @@ SPLITS: tuple[str, ...] = (
     "fresh60",
     "fresh57",
     "fresh58",
+    "fresh61",
+    "fresh62",
+    "fresh63",
+    "fresh64",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
