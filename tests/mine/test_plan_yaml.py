@@ -122,6 +122,11 @@ def test_a_parameter_block_from_the_spent_run_builds_the_program_of_its_plain_en
     assert rules_program(written) == rules_program(plain)
 
 
+def test_a_lateral_acceleration_with_no_side_is_on_either_side() -> None:
+    written = "subject: vehicle\nlateral_accel:\n  min_mps2: 2"
+    assert rules_program(written) == rules_program("vehicles with a lateral acceleration of more than 2 m/s²")
+
+
 @pytest.mark.parametrize(
     "text",
     [

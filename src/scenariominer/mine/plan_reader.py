@@ -54,7 +54,7 @@ from scenariominer.mine.plan_wording import normalised_text as _normalised_text
 __all__ = ["PLAN_READER_VERSION", "one_or_many", "read_plan", "rules_plan", "subject_categories"]
 
 #: Version of the phrase tables; enters the program-cache key (``mine.loop.plan_cache_key``).
-PLAN_READER_VERSION = "plan-reader/56"
+PLAN_READER_VERSION = "plan-reader/57"
 
 
 @dataclass

@@ -197,6 +197,8 @@ def _limit_part(what: str, bound: str, unit: str, side: str, number: str) -> str
         return f"speed: {'faster' if bound == 'min' else 'slower'} than {number} {unit or 'm/s'}"
     if what == "braking":
         return f"condition: braking harder than {number} m/s²"
+    if what == "acceleration" and side == "either":
+        return f"condition: with a lateral acceleration of more than {number} m/s²"
     if what == "acceleration" and side:
         return f"condition: with a lateral acceleration to the {side} of more than {number} m/s²"
     if what == "acceleration":
@@ -271,10 +273,9 @@ def _group_part(key: str, children: list[_Entry]) -> list[str]:
             limit = _limit(f"{words[-1]} {k}")
             if limit is not None and (number := _NUMBER.match(v)):
                 unit = _LIMIT_UNIT.get(number[2] or "", limit[2])
-                side = limit[3] or (
-                    "left" if "lateral" in words and quantity == "acceleration" and not limit[3] else ""
-                )
-                parts.append(_limit_part(quantity, limit[1], unit, limit[3] or side, number[1]))
+                # a lateral acceleration with no side named: either side
+                side = limit[3] or ("either" if "lateral" in words else "")
+                parts.append(_limit_part(quantity, limit[1], unit, side, number[1]))
         return parts or [_flat_part(k, v) for k, v in fields.items()]
     if key in ("heading", "relative heading", "relative direction", "travel direction") and "value" in fields:
         return [
