@@ -24,7 +24,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 
-from scenariominer.mine.plan_nouns import NP, SUBJECT
+from scenariominer.mine.plan_nouns import NP, SUBJECT, singular
 
 __all__ = ["camel_words", "document_wording", "request_text"]
 
@@ -233,8 +233,7 @@ _CONDITION_VERB: tuple[tuple[re.Pattern[str], str], ...] = (
 
 def _head(phrase: str) -> str:
     """The last word of a noun phrase, in the singular ("motor vehicles" -> "vehicle")."""
-    word = phrase.split()[-1] if phrase.split() else ""
-    return word[:-2] if word.endswith("ses") else word.rstrip("s")
+    return singular(phrase.split()[-1]) if phrase.split() else ""
 
 
 def requirement_wording(text: str) -> str:
@@ -268,7 +267,7 @@ def requirement_wording(text: str) -> str:
     # the objects returned are the other road user of the condition: "... within 15 m of a vehicle"
     other = re.match(
         rf"^(?P<rest>.+?) (?P<rel>in front of|behind|ahead of|next to|of|near|close to) (?:an?|the)"
-        rf" (?:\w+ )?{_head(named)}s?$",
+        rf" (?:\w+ )?{re.escape(_head(named))}(?:e?s)?$",
         cond,
     )
     if other is not None and demonstrative:

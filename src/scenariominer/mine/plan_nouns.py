@@ -12,7 +12,7 @@ from typing import Any
 
 from scenariominer.mine.plan_phrases import CATEGORY_PHRASES, MODIFIERS
 
-__all__ = ["CATEGORY_RE", "DETERMINER", "MODIFIER_RE", "NOUN", "NOUN_PHRASE", "NP", "SUBJECT"]
+__all__ = ["CATEGORY_RE", "DETERMINER", "MODIFIER_RE", "NOUN", "NOUN_PHRASE", "NP", "SUBJECT", "singular"]
 
 
 def _alternation(patterns: Any) -> str:
@@ -31,3 +31,12 @@ NP = rf"(?:(?:{DETERMINER}*)(?:(?:{MODIFIER_RE})\s+)*(?:{NOUN}))"
 SUBJECT = re.compile(
     rf"^\s*(?:(?:all|the|a|an|any|some|every)\s+)*(?P<mods>(?:(?:{MODIFIER_RE})\s+)*)(?P<noun>{NOUN})(?![\w-])"
 )
+
+
+def singular(word: str) -> str:
+    """``word`` in the singular ("buses" -> "bus", "vehicles" -> "vehicle"; "bus" stays "bus")."""
+    if word.endswith(("sses", "xes", "ches", "shes", "uses")):
+        return word[:-2]
+    if word.endswith("s") and not word.endswith(("ss", "us", "is")) and len(word) > 3:
+        return word[:-1]
+    return word

@@ -41,6 +41,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from scenariominer.mine.plan_nouns import singular
 from scenariominer.mine.plan_reader import one_or_many, subject_categories
 
 __all__ = ["PLAN_PROGRAM_VERSION", "CompiledPlan", "PlanCompileError", "compile_plan"]
@@ -533,15 +534,7 @@ def _match_object(
 def _norm(words: str) -> str:
     """Words compared without case, articles or a plural ``s`` ("the buses" ~ "bus")."""
     kept = [w for w in re.findall(r"[a-z0-9]+", words.lower()) if w not in ("the", "a", "an")]
-    return " ".join(_singular(w) for w in kept)
-
-
-def _singular(word: str) -> str:
-    if word.endswith(("sses", "xes", "ches", "shes", "uses")):
-        return word[:-2]
-    if word.endswith("s") and not word.endswith(("ss", "us", "is")) and len(word) > 3:
-        return word[:-1]
-    return word
+    return " ".join(singular(w) for w in kept)
 
 
 def _same_category(category: str) -> str:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 import re
-from functools import cache
+from functools import cache, lru_cache
 from typing import Any
 
 __all__ = ["corrected_spelling"]
@@ -115,6 +115,7 @@ def _nearest(word: str, candidates: set[str], dictionary: Any) -> str:
     )
 
 
+@lru_cache(maxsize=4096)  # pure; the reader normalises one description more than once
 def corrected_spelling(text: str) -> str:
     """``text`` (lower case) with its typing slips put right; unchanged without a dictionary."""
     text = _SLIP.sub(lambda m: _SLIPS[m[0]], text)
