@@ -588,8 +588,13 @@ def _synth(
     replies: list[str], *, plan_rules: bool = True, plan_partial: bool = True
 ) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
-    config = GenerationConfig(
-        max_attempts=1, plan=True, plan_program=True, plan_rules=plan_rules, plan_partial=plan_partial
+    config = GenerationConfig(  # the rewording step has its own tests (test_plan_reword.py)
+        max_attempts=1,
+        plan=True,
+        plan_program=True,
+        plan_rules=plan_rules,
+        plan_partial=plan_partial,
+        plan_reword=False,
     )
     selector = ExampleSelector(load_examples(), HashingEmbedder(128))
     return ProgramSynthesizer(ChatClient(backend), selector, config), backend

@@ -248,6 +248,7 @@ def evaluate_nl2prog(
     """
     from scenariominer.api.corpus import find_sample_av2
     from scenariominer.api.mining import load_logs
+    from scenariominer.eval.nl2prog import GeneratorProvider
     from scenariominer.mine.context import LogContext
     from scenariominer.mine.loop import ProgramCache
     from scenariominer.mine.plan_reader import rules_plan
@@ -281,8 +282,14 @@ def evaluate_nl2prog(
     reads = gen.plan and gen.plan_rules and gen.plan_program and provider_is_the_loop
 
     def reader(description: str) -> str:
-        plan = rules_plan(description, partial=gen.plan_partial)
-        return "model" if plan is None else "partial" if plan.get("unread") else "rules"
+        # the plan the loop used; another provider (a test's): how the rules alone read it
+        if isinstance(provider, GeneratorProvider):
+            plan = provider.plan_of(description)
+        else:
+            plan = rules_plan(description, partial=gen.plan_partial)
+        if plan is None or plan.get("read_by") != "rules":
+            return "model"
+        return "reworded" if plan.get("reworded") else "partial" if plan.get("unread") else "rules"
 
     with step(progress, "descriptions", len(entries)):
         return _evaluate_nl2prog(

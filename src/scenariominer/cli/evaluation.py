@@ -359,11 +359,12 @@ def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
     readers = ev.by_reader()
     labels = {
         "rules": "read by the phrase rules",
+        "reworded": "from the model's rewording",
         "partial": "in part (some words left out)",
         "model": "read by the model",
     }
     if readers["rules"].n_descriptions or readers["partial"].n_descriptions:
-        shown = [name for name in labels if name != "partial" or readers[name].n_descriptions]
+        shown = [name for name in labels if name in ("rules", "model") or readers[name].n_descriptions]
         parts = [
             f"{labels[name]}: {readers[name].n_descriptions}/{n}, mean Jaccard "
             f"{_jaccard_cell(readers[name].mean_jaccard)} over {readers[name].n_scored_cells} cell(s)"
@@ -472,6 +473,15 @@ def nl2prog(
             "(default: mining.generation.plan_partial).",
         ),
     ] = None,
+    plan_reword: Annotated[
+        bool | None,
+        typer.Option(
+            "--plan-reword/--no-plan-reword",
+            help="With --plan-rules, have the model put a description the rules cannot read in full "
+            "in plain words, and use the rules' full reading of those words when it keeps the "
+            "description's numbers and road users (default: mining.generation.plan_reword).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
@@ -496,6 +506,8 @@ def nl2prog(
         gen = dataclasses.replace(gen, plan_rules=plan_rules)
     if plan_partial is not None:
         gen = dataclasses.replace(gen, plan_partial=plan_partial)
+    if plan_reword is not None:
+        gen = dataclasses.replace(gen, plan_reword=plan_reword)
     cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()

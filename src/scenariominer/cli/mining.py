@@ -66,6 +66,12 @@ def render_query(report: QueryReport) -> None:
         else:
             out.print("[bold]plan[/bold] (how the description was read):")
             out.print(Text(plain(plan_text(plan))), highlight=False)
+            if plan.get("reworded"):
+                out.print(
+                    "[yellow]reworded:[/yellow] the phrase rules read the model's plain rewording "
+                    "of the description (shown above); check that it says what you meant",
+                    soft_wrap=True,
+                )
             if plan.get("unread"):
                 out.print(
                     f"[yellow]read in part:[/yellow] {len(plan['unread'])} word(s) of the description "

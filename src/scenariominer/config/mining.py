@@ -121,6 +121,10 @@ class GenerationConfig:
             plan as not read) when they read its subject; the model reads only the rest. On by
             default: on the descriptions the rules could not read in full, the partial plans
             agreed with the references far better than the model's (docs/mining.md).
+        plan_reword: with ``plan_rules`` on, a description the phrase rules cannot read in full
+            is first rewritten in plain words by one short model call, and the rules' full reading
+            of the rewording is used when it keeps the description's numbers and road users
+            (:mod:`scenariominer.mine.plan_reword`); before the partial reading.
     """
 
     max_attempts: int = 5
@@ -139,6 +143,7 @@ class GenerationConfig:
     plan_program: bool = True
     plan_rules: bool = True
     plan_partial: bool = True
+    plan_reword: bool = True
 
     def __post_init__(self) -> None:
         try:

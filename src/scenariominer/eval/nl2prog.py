@@ -67,6 +67,7 @@ if TYPE_CHECKING:
     from scenariominer.config import Config
     from scenariominer.llm.usage import UsageCounter
     from scenariominer.mine.loop import ProgramCache
+    from scenariominer.mine.synthesis import ProgramSynthesizer
 
 __all__ = [
     "EVAL_SET_FILE",
@@ -99,7 +100,7 @@ __all__ = [
 EVAL_SET_FILE = "nl2prog_set.toml"
 
 #: Who reads a description into a plan: the phrase rules, every word or some, or the model.
-READERS: tuple[str, ...] = ("rules", "partial", "model")
+READERS: tuple[str, ...] = ("rules", "reworded", "partial", "model")
 
 #: The splits of the set.
 SPLITS: tuple[str, ...] = (
@@ -820,20 +821,14 @@ class BankOnlySelector(ExampleSelector):
         return ranked[self.exclude_most_similar :][:k]
 
 
-def generator_provider(
-    validation: Sequence[LogContext],
-    config: Config,
-    *,
-    exclude_most_similar: int = 0,
-    cache: ProgramCache | None = None,
-    usage: UsageCounter | None = None,
-    hidden: Iterable[str] | None = None,
-) -> CandidateProvider:
+class GeneratorProvider:
     """The language-model loop as a provider (:func:`~scenariominer.mine.loop.generate_program`).
 
     The few-shot examples come from the SHIPPED bank only (``mining.generation.examples_files``
     is ignored), leave-one-out, never an entry with a holdout description; the model and the
     embedder are built on the first call (:func:`~scenariominer.mine.query.make_synthesizer`).
+    Calling it returns the accepted program of a description, or ``None`` when the loop gave up
+    (manual review); :meth:`plan_of` tells how the description was read.
 
     Args:
         validation: the logs a candidate must run on inside the loop.
@@ -844,44 +839,76 @@ def generator_provider(
             without the similar entries are cached apart).
         usage: counts model calls and tokens.
         hidden: descriptions never shown as examples; default the held-out splits.
-
-    Returns:
-        description -> the accepted program, or ``None`` when the loop gave up (manual review).
     """
-    from scenariominer.mine.consensus import configured_consensus
-    from scenariominer.mine.loop import generate_program
-    from scenariominer.mine.query import make_synthesizer
 
-    if not validation:
-        raise ValueError("generator_provider needs at least one validation log")
-    gen = replace(config.mining.generation, examples_files=())
-    cfg = replace(config, mining=replace(config.mining, generation=gen))
-    hidden_descriptions = (
-        tuple(hidden)
-        if hidden is not None
-        else tuple(e.description for e in load_eval_set() if e.split in HELD_OUT_SPLITS)
-    )
-    state: dict[str, Any] = {}
+    def __init__(
+        self,
+        validation: Sequence[LogContext],
+        config: Config,
+        *,
+        exclude_most_similar: int = 0,
+        cache: ProgramCache | None = None,
+        usage: UsageCounter | None = None,
+        hidden: Iterable[str] | None = None,
+    ) -> None:
+        if not validation:
+            raise ValueError("generator_provider needs at least one validation log")
+        gen = replace(config.mining.generation, examples_files=())
+        self.config = replace(config, mining=replace(config.mining, generation=gen))
+        self.validation = validation
+        self.exclude_most_similar = exclude_most_similar
+        self.cache = cache
+        self.usage = usage
+        self.hidden = (
+            tuple(hidden)
+            if hidden is not None
+            else tuple(e.description for e in load_eval_set() if e.split in HELD_OUT_SPLITS)
+        )
+        self._synth: ProgramSynthesizer | None = None
 
-    def provide(description: str) -> str | None:
-        synth = state.get("synth")
-        if synth is None:
-            synth = make_synthesizer(cfg, leave_one_out=True, usage=usage)
+    def _synthesizer(self) -> ProgramSynthesizer:
+        from scenariominer.mine.query import make_synthesizer
+
+        if self._synth is None:
+            synth = make_synthesizer(self.config, leave_one_out=True, usage=self.usage)
             if synth.selector is not None:
                 synth.selector = BankOnlySelector(
                     load_examples(builtin=True),
                     synth.selector.embedder,
-                    hidden=hidden_descriptions,
-                    exclude_most_similar=exclude_most_similar,
+                    hidden=self.hidden,
+                    exclude_most_similar=self.exclude_most_similar,
                 )
-            state["synth"] = synth
-        gen_cfg = cfg.mining.generation
-        if gen_cfg.consensus_samples > 1:  # several candidates, chosen by agreement of their outputs
-            return configured_consensus(description, synth, validation, cfg.mining).program
-        report = generate_program(description, synth, validation, config=cfg.mining, cache=cache)
-        return report.program
+            self._synth = synth
+        return self._synth
 
-    return provide
+    def __call__(self, description: str) -> str | None:
+        from scenariominer.mine.consensus import configured_consensus
+        from scenariominer.mine.loop import generate_program
+
+        synth = self._synthesizer()
+        cfg = self.config.mining
+        if cfg.generation.consensus_samples > 1:  # several candidates, chosen by agreement of outputs
+            return configured_consensus(description, synth, self.validation, cfg).program
+        return generate_program(description, synth, self.validation, config=cfg, cache=self.cache).program
+
+    def plan_of(self, description: str) -> dict[str, Any] | None:
+        """The plan the loop used for ``description`` (``None`` before it was asked, or plan off)."""
+        return None if self._synth is None else self._synth.plans.get(description)
+
+
+def generator_provider(
+    validation: Sequence[LogContext],
+    config: Config,
+    *,
+    exclude_most_similar: int = 0,
+    cache: ProgramCache | None = None,
+    usage: UsageCounter | None = None,
+    hidden: Iterable[str] | None = None,
+) -> GeneratorProvider:
+    """The language-model loop as a provider; see :class:`GeneratorProvider` for the arguments."""
+    return GeneratorProvider(
+        validation, config, exclude_most_similar=exclude_most_similar, cache=cache, usage=usage, hidden=hidden
+    )
 
 
 def family_counts(entries: Iterable[EvalEntry]) -> Mapping[str, int]:

@@ -126,6 +126,8 @@ def plan_text(plan: dict[str, Any]) -> str:
     reader = " (read by the phrase rules)" if plan.get("read_by") == "rules" else ""
     subject = _categories_text(plan["subject_category"])
     lines = [f"- subject: {plan['subject_words']} -> category {subject}{reader}"]
+    if plan.get("reworded"):  # read from the model's plain rewording (mine/plan_reword.py)
+        lines.insert(0, f"- read as (the model's plain rewording): {plan['reworded']}")
     for obj in plan.get("related", []):
         own = "".join(f", {c['function']}({c.get('argument') or ''})" for c in obj.get("conditions", []))
         lines.append(f"- other objects: {obj['words']} -> category {_categories_text(obj['category'])}{own}")

@@ -1,7 +1,11 @@
-"""Prompt of the plan step (:mod:`scenariominer.mine.plan`): read a description, name its parts.
+"""Prompts of the plan step and of the rewording step that may come before it.
 
-The worked examples below use descriptions of the shipped example bank and of the *dev* split of
-``eval/nl2prog_set.toml`` only (never its hold-out split), written by hand for this prompt.
+The plan step (:mod:`scenariominer.mine.plan`) reads a description and names its parts; the
+rewording step (:mod:`scenariominer.mine.plan_reword`) puts an odd wording in plain words.
+
+The worked examples of the plan step use descriptions of the shipped example bank and of the
+*dev* split of ``eval/nl2prog_set.toml`` only (never its hold-out split), written by hand for this
+prompt; those of the rewording step are wordings of my own (none from any split).
 """
 
 from __future__ import annotations
@@ -11,7 +15,14 @@ import json
 from collections.abc import Callable, Mapping
 from typing import Any
 
-__all__ = ["PLAN_PROMPT_VERSION", "plan_system_prompt", "plan_user_prompt"]
+__all__ = [
+    "PLAN_PROMPT_VERSION",
+    "REWORD_EXAMPLES",
+    "REWORD_PROMPT_VERSION",
+    "plan_system_prompt",
+    "plan_user_prompt",
+    "reword_system_prompt",
+]
 
 #: Version of the texts below; part of the program-cache key through the request text.
 PLAN_PROMPT_VERSION = "mining-plan/2"
@@ -159,3 +170,34 @@ def plan_system_prompt(functions: Mapping[str, Callable[..., Any]]) -> str:
 def plan_user_prompt(description: str) -> str:
     """The user message: the description to read."""
     return f"Description: {description.strip()}"
+
+
+# -- the rewording step (:mod:`scenariominer.mine.plan_reword`) ------------------------------------
+
+#: Version of the rewording prompt below (the response cache keys on the whole request anyway).
+REWORD_PROMPT_VERSION = "mining-reword/1"
+
+_REWORD_ROLE = """You rewrite search requests for recorded driving logs in plain, simple English: \
+the road users searched for, what they are doing, where, and near which other road users. Keep \
+every number with its unit, every direction (left, right, ahead, behind) and every negation. Drop \
+ticket numbers, ratings and other words that do not describe the scene. Answer with the rewritten \
+request only, on one line."""
+
+#: Worked examples: odd wordings written by hand for this prompt (none from an evaluation split),
+#: each rewritten into words the phrase rules read in full (a test checks that they do).
+REWORD_EXAMPLES: tuple[tuple[str, str], ...] = (
+    ("Flag any instance where a bike occupies the lane reserved for buses",
+     "bicycles in a bus lane"),
+    ("ego.decel > 3 m/s^2 while lead_vehicle.dist < 10 m",
+     "the ego vehicle braking at more than 3 m/s^2 with a vehicle ahead within 10 m"),
+    ("Scenario: person on foot traverses the road in front of our car",
+     "pedestrians crossing in front of the ego vehicle"),
+    ("trucks sitting idle by the kerb", "parked trucks"),
+    ("BUG-1123: planner jittered when a cyclist went past us on the right",
+     "bicyclists passing the ego vehicle on the right"),
+)  # fmt: skip
+
+
+def reword_system_prompt() -> str:
+    """The system message of the rewording step."""
+    return _REWORD_ROLE

@@ -29,7 +29,8 @@ from scenariominer.llm.errors import StructuredOutputError
 from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.plan import extract_plan, plan_text
 from scenariominer.mine.plan_documents import request_text
-from scenariominer.mine.plan_reader import rules_plan
+from scenariominer.mine.plan_reader import read_plan
+from scenariominer.mine.plan_reword import reword, reworded_plan
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
 from scenariominer.retrieval import rank
@@ -197,6 +198,7 @@ class ProgramSynthesizer:
         self.config = config or GenerationConfig()
         self.leave_one_out = leave_one_out
         self.plans: dict[str, dict[str, Any]] = {}
+        self.rewordings: dict[str, dict[str, str]] = {}
 
     @property
     def model(self) -> str:
@@ -212,16 +214,23 @@ class ProgramSynthesizer:
     def plan_for(self, description: str) -> dict[str, Any] | None:
         """The description's plan (kept per description); ``None`` when planning is off.
 
-        With ``plan_rules`` on, the phrase rules read it first (no model call); with
-        ``plan_partial`` also when some of its words are not their phrases, as long as they read
-        the subject (the plan lists the words left out under ``unread``). Otherwise one model call
-        does. A plan the model cannot produce in a valid form is recorded as ``{"error": ...}``
-        and the program is written without it.
+        With ``plan_rules`` on, the phrase rules read it first (no model call); failing that, with
+        ``plan_reword`` they read the model's plain rewording of it when they can read all of it
+        and it keeps the description's numbers and road users
+        (:mod:`scenariominer.mine.plan_reword`); failing that, with ``plan_partial``, they read
+        the description in part when some of its words are not their phrases, as long as they
+        read the subject (the plan lists the words left out under ``unread``). Otherwise one
+        model call does. A plan the model cannot produce in a valid form is recorded as
+        ``{"error": ...}`` and the program is written without it.
         """
         if not self.config.plan:
             return None
         if description not in self.plans and self.config.plan_rules:
-            read = rules_plan(description, partial=self.config.plan_partial)
+            read = read_plan(description)
+            if read is None and self.config.plan_reword:
+                read = self._reworded(description)
+            if read is None and self.config.plan_partial:
+                read = read_plan(description, partial=True)
             if read is not None:
                 self.plans[description] = read
         if description not in self.plans:
@@ -230,6 +239,16 @@ class ProgramSynthesizer:
             except StructuredOutputError as exc:
                 self.plans[description] = {"error": str(exc)[:300]}
         return self.plans[description]
+
+    def _reworded(self, description: str) -> dict[str, Any] | None:
+        """The rules' reading of the model's plain rewording of ``description``, if it passes.
+
+        The rewording and why it was refused are kept in :attr:`rewordings` (for the report).
+        """
+        rewording = reword(self.client, description)
+        plan, reason = reworded_plan(description, rewording)
+        self.rewordings[description] = {"text": rewording, "refused": reason}
+        return plan
 
     def first_messages(self, description: str) -> list[Message]:
         """The first request for ``description`` (system message, examples, description, plan)."""

@@ -1,0 +1,141 @@
+"""The model puts a description in plain words; the phrase rules read those words.
+
+The phrase rules (:mod:`scenariominer.mine.plan_reader`) read most descriptions in full, but a
+register they have not met (a parameter block, a child's words, a set-builder formula) leaves
+them reading it only in part or not at all, and the 1.5B model's own plans and programs are far
+weaker than the rules' reading. Rewriting a sentence into plain words is a task a small model does
+well, so when the rules cannot read a description in full, one short model call rewrites it
+("actor: pedestrian / location: pedestrian_crossing" -> "pedestrians on a pedestrian crossing")
+and the rules read the rewording. It is used only when they read it *in full* and it passes two
+checks against the original, so a rewording cannot silently change what is searched for:
+
+* every number of the original is in the rewording and no other (a dropped "1.5 m/s^2" or an
+  invented "10 m" would change the program);
+* its road user is one the original names, or a member of a group it names ("vehicles" may
+  become "cars", not the other way round): a rewording that turns "skateboards" into "bicycles"
+  or "cars in the bike lane" into "bicycles in a bike lane" is refused.
+
+A refused or unreadable rewording changes nothing: the description goes on as before (read in
+part by the rules, else by the model's plan). The plan keeps the rewording under ``reworded`` and
+:func:`scenariominer.mine.plan.plan_text` shows it, so the user sees which words were read.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+from scenariominer.data.categories import EGO_CATEGORY, expand_categories
+from scenariominer.llm.base import Message, assistant, system, user
+from scenariominer.llm.client import ChatClient
+
+__all__ = ["REWORD_GRAMMAR", "reword", "reword_messages", "reworded_plan"]
+
+#: One line of plain text (no line break, no markup): the answer the rewording step may give.
+REWORD_GRAMMAR = r"""root ::= [A-Za-z0-9] [A-Za-z0-9 ,.'/%()^*<>=+-]{0,160}"""
+
+#: A number standing alone: not part of a word ("s3", "e4") or a compound ("2-wheeled", "4-way").
+_NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d+)?(?![\w.]|-[a-z])")
+
+
+def reword_messages(description: str) -> list[Message]:
+    """The rewording request: the role, the worked examples as turns, then the description."""
+    from scenariominer.mine.plan_documents import request_text
+    from scenariominer.mine.plan_prompts import REWORD_EXAMPLES, reword_system_prompt
+
+    messages = [system(reword_system_prompt())]
+    for odd, plain in REWORD_EXAMPLES:
+        messages += [user(odd), assistant(plain)]
+    messages.append(user(request_text(description).strip()))
+    return messages
+
+
+def reword(client: ChatClient, description: str, *, max_tokens: int = 60) -> str:
+    """One model call: ``description`` in plain words (one line; empty when the model gave none).
+
+    Raises:
+        BackendError: the model call failed.
+    """
+    messages = reword_messages(description)
+    completion = client.completion(messages, grammar=REWORD_GRAMMAR, max_tokens=max_tokens)
+    lines = completion.text.strip().splitlines()
+    return " ".join(lines[0].split()) if lines else ""
+
+
+#: "one" as a pronoun ("each one", "one of them", "one that stops"), not a number.
+_PRONOUN_ONE = re.compile(
+    r"\b(?:each|every|any|no|this|that|the|which|a|some) one\b|\bone (?=of|that|who|which|another)\b",
+    re.IGNORECASE,
+)
+
+
+def _numbers(text: str) -> set[float]:
+    """The numbers in the normalised text ("five metres" counts as 5, "each one" as none)."""
+    from scenariominer.mine.plan_wording import normalised_text
+
+    return {float(n) for n in _NUMBER.findall(normalised_text(_PRONOUN_ONE.sub(" ", text)))}
+
+
+#: A word that negates or excludes; "no more than" and its kind only bound a number.
+_NEGATION = re.compile(
+    r"\b(?:not|no|non|never|without|except|false|none|nowhere|neither|nor|other than|apart from|"
+    r"aside from)\b|n't\b|\bexclu|\b(?:not|non|no)_|_not\b|\bun(?:moving|parked|marked)\b|!="
+)
+_BOUND = re.compile(r"\bno (?:more|less|fewer|further|farther|faster|slower|closer|later|sooner) than\b")
+
+#: Words for the ego vehicle that are no road-user phrase of the rules.
+_EGO_WORDS = re.compile(r"\b(?:ego|we|us|our|ours|me|my|av|sdv|adv)\b")
+
+
+def _negated(text: str) -> bool:
+    """Whether the text negates or excludes anything."""
+    return _NEGATION.search(_BOUND.sub(" ", text.lower())) is not None
+
+
+def _named_categories(text: str) -> set[str]:
+    """Every category of the road users the normalised text names anywhere."""
+    from scenariominer.mine.plan_reader import subject_categories
+    from scenariominer.mine.plan_wording import CATEGORY_RE, normalised_text
+
+    named: set[str] = set()
+    for found in re.finditer(rf"(?<![\w-])(?:{CATEGORY_RE})(?![\w-])", normalised_text(text)):
+        named.update(subject_categories(found.group(0)) or ())
+    return named
+
+
+def reworded_plan(description: str, rewording: str) -> tuple[dict[str, Any] | None, str]:
+    """The phrase rules' full reading of ``rewording`` if it passes the checks against ``description``.
+
+    Returns:
+        (plan, reason): the plan (with ``reworded`` set) and ``""``; or ``None`` and why the
+        rewording was not used.
+    """
+    from scenariominer.mine.plan_reader import read_plan
+
+    if not rewording:
+        return None, "the model gave no rewording"
+    plan = read_plan(rewording)
+    if plan is None:
+        return None, f"the phrase rules cannot read the rewording in full: {rewording!r}"
+    stated, kept = _numbers(description), _numbers(rewording)
+    if stated != kept:
+        return None, (
+            f"the rewording {rewording!r} changes the numbers stated "
+            f"({sorted(stated) or 'none'} -> {sorted(kept) or 'none'})"
+        )
+    if _negated(description) != _negated(rewording):
+        said = "drops the negation of" if _negated(description) else "adds a negation to"
+        return None, f"the rewording {rewording!r} {said} the description"
+    named = _named_categories(description)
+    subject = plan["subject_category"]
+    if not _categories_of(subject) <= expand_categories(named):
+        return None, f"the rewording {rewording!r} is about a road user the description does not name"
+    ego_in_plan = EGO_CATEGORY in [subject, *(o["category"] for o in plan.get("related", []))]
+    if ego_in_plan and EGO_CATEGORY not in named and _EGO_WORDS.search(description.lower()) is None:
+        return None, f"the rewording {rewording!r} brings in the ego vehicle, which the description does not"
+    return {**plan, "reworded": rewording}, ""
+
+
+def _categories_of(category: str | list[str]) -> frozenset[str]:
+    """The categories a plan's category (one, or a list of several) stands for."""
+    return expand_categories(category if isinstance(category, list) else [category])

@@ -1,0 +1,135 @@
+"""The rewording step (mine/plan_reword.py): the model puts a description in plain words.
+
+Checks of a rewording against its description, the step inside the synthesizer with a scripted
+model (when it is asked, what happens when it is refused), and one call of the real model.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from scenariominer.config.mining import GenerationConfig
+from scenariominer.llm.cache import resolve_cache_dir
+from scenariominer.llm.client import ChatClient
+from scenariominer.llm.llamacpp import LlamaCppBackend
+from scenariominer.llm.model_files import ModelNotAvailableError, ensure_model_file
+from scenariominer.mine.plan import plan_text
+from scenariominer.mine.plan_prompts import REWORD_EXAMPLES
+from scenariominer.mine.plan_reader import read_plan
+from scenariominer.mine.plan_reword import REWORD_GRAMMAR, reword, reword_messages, reworded_plan
+from scenariominer.mine.synthesis import ProgramSynthesizer
+from scenariominer.testing import ScriptedBackend
+
+#: Not read in full by the phrase rules (a register they have not met); subject read.
+ODD = "vehicles, kindly surface each one that is doing the 'sudden stop' routine within 15 m of us"
+
+
+def test_every_worked_example_of_the_prompt_is_read_in_full_by_the_rules() -> None:
+    for odd, plain in REWORD_EXAMPLES:
+        assert read_plan(plain) is not None, plain
+        assert reworded_plan(odd, plain)[0] is not None, (odd, plain)
+
+
+def test_the_odd_wording_of_these_tests_is_not_read_in_full() -> None:
+    assert read_plan(ODD) is None
+
+
+def test_a_rewording_that_keeps_numbers_and_road_users_is_read_and_kept_in_the_plan() -> None:
+    plan, reason = reworded_plan(ODD, "vehicles braking hard within 15 m of the ego vehicle")
+    assert reason == ""
+    assert plan is not None
+    assert plan["reworded"] == "vehicles braking hard within 15 m of the ego vehicle"
+    assert plan["subject_category"] == "VEHICLE"
+    assert "- read as (the model's plain rewording): vehicles braking hard" in plan_text(plan)
+
+
+@pytest.mark.parametrize(
+    ("rewording", "why"),
+    [
+        ("vehicles braking hard near the ego vehicle", "changes the numbers stated"),  # 15 dropped
+        ("vehicles braking hard within 10 m of the ego vehicle", "changes the numbers stated"),
+        ("vehicles braking at over 3 m/s^2 within 15 m of the ego vehicle", "changes the numbers stated"),
+        ("pedestrians within 15 m of the ego vehicle", "a road user the description does not name"),
+        ("vehicles doing a sudden-stop routine within 15 m of us", "cannot read the rewording in full"),
+        ("", "no rewording"),
+    ],
+)
+def test_a_rewording_that_changes_the_request_is_refused_with_its_reason(rewording: str, why: str) -> None:
+    plan, reason = reworded_plan(ODD, rewording)
+    assert plan is None
+    assert why in reason
+
+
+def test_a_group_may_narrow_to_a_member_but_a_member_may_not_widen_to_its_group() -> None:
+    assert reworded_plan("vehicles doing the 'sudden stop' routine", "cars braking hard")[0] is not None
+    assert reworded_plan("cars doing the 'sudden stop' routine", "vehicles braking hard")[0] is None
+
+
+def test_number_words_count_as_the_numbers_they_name() -> None:
+    plain = "pedestrians within 5 m of the ego vehicle"
+    plan, reason = reworded_plan("peds, um, five metres-ish from our car", plain)
+    assert reason == "" and plan is not None
+
+
+def test_the_request_shows_the_worked_examples_as_turns_then_the_description() -> None:
+    messages = reword_messages(ODD)
+    assert messages[0].role == "system"
+    assert [m.content for m in messages[1:-1:2]] == [odd for odd, _ in REWORD_EXAMPLES]
+    assert [m.content for m in messages[2:-1:2]] == [plain for _, plain in REWORD_EXAMPLES]
+    assert messages[-1].content == ODD
+
+
+def test_reword_keeps_the_first_line_single_spaced_and_decodes_under_the_grammar() -> None:
+    backend = ScriptedBackend(["  vehicles   braking hard\nwithin 15 m\n"])
+    assert reword(ChatClient(backend), ODD) == "vehicles braking hard"
+    assert backend.requests[0].grammar == REWORD_GRAMMAR
+
+
+def _synth(replies: list[str], **config: bool) -> tuple[ProgramSynthesizer, ScriptedBackend]:
+    backend = ScriptedBackend(replies)
+    return ProgramSynthesizer(ChatClient(backend), None, GenerationConfig(**config)), backend
+
+
+def test_the_synthesizer_asks_for_a_rewording_only_when_the_rules_cannot_read_the_description() -> None:
+    synth, backend = _synth(["vehicles braking hard within 15 m of the ego vehicle"])
+    assert synth.plan_for("vehicles braking hard") is not None  # read in full: no call
+    assert backend.requests == []
+    plan = synth.plan_for(ODD)
+    assert plan is not None and plan["reworded"] == "vehicles braking hard within 15 m of the ego vehicle"
+    assert len(backend.requests) == 1
+    assert synth.rewordings[ODD]["refused"] == ""
+    assert synth.plan_for(ODD) is plan and len(backend.requests) == 1  # kept per description
+
+
+def test_a_refused_rewording_leaves_the_partial_reading_and_says_why() -> None:
+    synth, backend = _synth(["pedestrians within 15 m of the ego vehicle"])
+    plan = synth.plan_for(ODD)
+    assert plan is not None and "reworded" not in plan
+    assert plan["unread"]  # the rules' partial reading of the description itself
+    assert "does not name" in synth.rewordings[ODD]["refused"]
+    assert len(backend.requests) == 1
+
+
+def test_with_plan_reword_off_no_rewording_is_asked_for() -> None:
+    synth, backend = _synth([], plan_reword=False)
+    plan = synth.plan_for(ODD)
+    assert plan is not None and plan["unread"]
+    assert backend.requests == [] and synth.rewordings == {}
+
+
+@pytest.mark.slow
+def test_the_embedded_model_rewords_an_odd_request_into_words_the_rules_read() -> None:
+    try:
+        model_file = ensure_model_file(resolve_cache_dir())
+    except ModelNotAvailableError as exc:
+        pytest.skip(f"bundled model not available: {exc}")
+    backend = LlamaCppBackend(model_file, model_name="qwen2.5-coder-1.5b", n_ctx=8192)
+    description = "Kindly surface every person on foot strolling across the street ahead of our car"
+    try:
+        rewording = reword(ChatClient(backend), description)
+    finally:
+        backend.close()
+    assert read_plan(description) is None  # the rules alone cannot read it
+    plan, reason = reworded_plan(description, rewording)
+    assert reason == "", reason
+    assert plan is not None and plan["subject_category"] == "PEDESTRIAN"
