@@ -172,6 +172,13 @@ SPLITS: tuple[str, ...] = (
     "fresh62",
     "fresh63",
     "fresh64",
+    "fresh65",
+    "fresh66",
+    "fresh67",
+    "fresh68",
+    "fresh69",
+    "fresh70",
+    "fresh71",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
