@@ -16,7 +16,7 @@ from scenariominer.llm.model_files import ModelNotAvailableError, ensure_model_f
 from scenariominer.mine.plan import plan_text
 from scenariominer.mine.plan_prompts import REWORD_EXAMPLES
 from scenariominer.mine.plan_reader import read_plan
-from scenariominer.mine.plan_reword import REWORD_GRAMMAR, reword, reword_messages, reworded_plan
+from scenariominer.mine.plan_reword import REWORD_GRAMMAR, _numbers, reword, reword_messages, reworded_plan
 from scenariominer.mine.synthesis import ProgramSynthesizer
 from scenariominer.testing import ScriptedBackend
 
@@ -69,6 +69,26 @@ def test_number_words_count_as_the_numbers_they_name() -> None:
     plain = "pedestrians within 5 m of the ego vehicle"
     plan, reason = reworded_plan("peds, um, five metres-ish from our car", plain)
     assert reason == "" and plan is not None
+
+
+@pytest.mark.parametrize(
+    ("text", "numbers"),
+    [
+        ("trucks within 10m of us", {10.0}),  # a unit run into its number
+        ("braking at 1.5 m/s^2 or m/s²", {1.5}),  # no exponent
+        ("[S3, E4] the 3rd car behind a 2-wheeled cart", set()),  # no rating, ordinal or compound
+    ],
+)
+def test_which_numbers_a_rewording_must_keep(text: str, numbers: set[float]) -> None:
+    assert _numbers(text) == numbers
+
+
+def test_what_the_rewording_says_is_done_with_the_result_is_not_read() -> None:
+    description = "Given a pedestrian When they walk in a bike lane Then the pedestrian is flagged"
+    for said in ("", " flagged", " are returned", ", reported", " should be returned"):
+        plan, reason = reworded_plan(description, "pedestrians walking in a bike lane" + said)
+        assert reason == "" and plan is not None, said
+        assert plan["reworded"] == "pedestrians walking in a bike lane" + said  # shown as the model said it
 
 
 def test_the_request_shows_the_worked_examples_as_turns_then_the_description() -> None:

@@ -80,6 +80,7 @@ __all__ = [
     "EvalEntry",
     "EvalSetError",
     "FamilyScore",
+    "GeneratorProvider",
     "Nl2ProgEvaluation",
     "ProgramRunner",
     "bank_provider",
@@ -889,6 +890,7 @@ class GeneratorProvider:
         return self._synth
 
     def __call__(self, description: str) -> str | None:
+        """The accepted program of ``description``, or ``None`` when the loop gave up."""
         from scenariominer.mine.consensus import configured_consensus
         from scenariominer.mine.loop import generate_program
 
@@ -903,19 +905,8 @@ class GeneratorProvider:
         return None if self._synth is None else self._synth.plans.get(description)
 
 
-def generator_provider(
-    validation: Sequence[LogContext],
-    config: Config,
-    *,
-    exclude_most_similar: int = 0,
-    cache: ProgramCache | None = None,
-    usage: UsageCounter | None = None,
-    hidden: Iterable[str] | None = None,
-) -> GeneratorProvider:
-    """The language-model loop as a provider; see :class:`GeneratorProvider` for the arguments."""
-    return GeneratorProvider(
-        validation, config, exclude_most_similar=exclude_most_similar, cache=cache, usage=usage, hidden=hidden
-    )
+#: The language-model loop as a provider (the name the API calls; see :class:`GeneratorProvider`).
+generator_provider = GeneratorProvider
 
 
 def family_counts(entries: Iterable[EvalEntry]) -> Mapping[str, int]:

@@ -34,8 +34,9 @@ __all__ = ["REWORD_GRAMMAR", "reword", "reword_messages", "reworded_plan"]
 #: One line of plain text (no line break, no markup): the answer the rewording step may give.
 REWORD_GRAMMAR = r"""root ::= [A-Za-z0-9] [A-Za-z0-9 ,.'/%()^*<>=+-]{0,160}"""
 
-#: A number standing alone: not part of a word ("s3", "e4") or a compound ("2-wheeled", "4-way").
-_NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d+)?(?![\w.]|-[a-z])")
+#: A number, with or without its unit run into it ("10m"); not the end of a word ("s3", "e4"), an
+#: exponent ("m/s^2"), a compound ("2-wheeled", "4-way") or an ordinal ("3rd").
+_NUMBER = re.compile(r"(?<![\w.^])\d+(?:\.\d+)?(?![\d.]|-[a-z]|(?:st|nd|rd|th)\b)")
 
 
 def reword_messages(description: str) -> list[Message]:
@@ -61,6 +62,14 @@ def reword(client: ChatClient, description: str, *, max_tokens: int = 60) -> str
     lines = completion.text.strip().splitlines()
     return " ".join(lines[0].split()) if lines else ""
 
+
+#: What a rewording may say is done with the result ("... are returned", "..., flagged"): no part
+#: of the scene, so left out before the rules read it (an original wording keeps its own rules).
+_REPORTED = re.compile(
+    r"(?:,?\s+(?:and\s+)?(?:(?:is|are|should be|must be|to be|gets?|will be)\s+)?"
+    r"(?:returned|reported|flagged|listed|shown|found|selected|highlighted|detected|identified))+\.?$",
+    re.IGNORECASE,
+)
 
 #: "one" as a pronoun ("each one", "one of them", "one that stops"), not a number.
 _PRONOUN_ONE = re.compile(
@@ -114,7 +123,7 @@ def reworded_plan(description: str, rewording: str) -> tuple[dict[str, Any] | No
 
     if not rewording:
         return None, "the model gave no rewording"
-    plan = read_plan(rewording)
+    plan = read_plan(_REPORTED.sub("", rewording))
     if plan is None:
         return None, f"the phrase rules cannot read the rewording in full: {rewording!r}"
     stated, kept = _numbers(description), _numbers(rewording)
