@@ -132,8 +132,9 @@ def reworded_plan(description: str, rewording: str) -> tuple[dict[str, Any] | No
             f"the rewording {rewording!r} changes the numbers stated "
             f"({sorted(stated) or 'none'} -> {sorted(kept) or 'none'})"
         )
-    if _negated(description) != _negated(rewording):
-        said = "drops the negation of" if _negated(description) else "adds a negation to"
+    negated = _negated(description)
+    if negated != _negated(rewording):
+        said = "drops the negation of" if negated else "adds a negation to"
         return None, f"the rewording {rewording!r} {said} the description"
     named = _named_categories(description)
     subject = plan["subject_category"]
