@@ -14,9 +14,16 @@ from scenariominer.llm.client import ChatClient
 from scenariominer.llm.llamacpp import LlamaCppBackend
 from scenariominer.llm.model_files import ModelNotAvailableError, ensure_model_file
 from scenariominer.mine.plan import plan_text
-from scenariominer.mine.plan_prompts import REWORD_EXAMPLES
+from scenariominer.mine.plan_prompts import PLAIN_PHRASES, REWORD_EXAMPLES
 from scenariominer.mine.plan_reader import read_plan
-from scenariominer.mine.plan_reword import REWORD_GRAMMAR, _numbers, reword, reword_messages, reworded_plan
+from scenariominer.mine.plan_reword import (
+    REWORD_GRAMMAR,
+    _numbers,
+    reword,
+    reword_again,
+    reword_messages,
+    reworded_plan,
+)
 from scenariominer.mine.synthesis import ProgramSynthesizer
 from scenariominer.testing import ScriptedBackend
 
@@ -105,7 +112,7 @@ def test_reword_keeps_the_first_line_single_spaced_and_decodes_under_the_grammar
     assert backend.requests[0].grammar == REWORD_GRAMMAR
 
 
-def _synth(replies: list[str], **config: bool) -> tuple[ProgramSynthesizer, ScriptedBackend]:
+def _synth(replies: list[str], **config: bool | int) -> tuple[ProgramSynthesizer, ScriptedBackend]:
     backend = ScriptedBackend(replies)
     return ProgramSynthesizer(ChatClient(backend), None, GenerationConfig(**config)), backend
 
@@ -122,12 +129,82 @@ def test_the_synthesizer_asks_for_a_rewording_only_when_the_rules_cannot_read_th
 
 
 def test_a_refused_rewording_leaves_the_partial_reading_and_says_why() -> None:
-    synth, backend = _synth(["pedestrians within 15 m of the ego vehicle"])
+    synth, backend = _synth(["pedestrians within 15 m of the ego vehicle"], plan_reword_tries=1)
     plan = synth.plan_for(ODD)
     assert plan is not None and "reworded" not in plan
     assert plan["unread"]  # the rules' partial reading of the description itself
     assert "does not name" in synth.rewordings[ODD]["refused"]
     assert len(backend.requests) == 1
+
+
+@pytest.mark.parametrize(
+    ("refused", "told"),
+    [
+        # the words the rules left out, and plain phrases they read
+        (
+            "vehicles doing a sudden-stop routine within 15 m of us",
+            ["'doing'", "'routine'", PLAIN_PHRASES[0]],
+        ),
+        ("vehicles braking hard near the ego vehicle", ["Keep exactly the numbers", ": 15."]),
+        ("pedestrians within 15 m of the ego vehicle", ["Name the road users the request names"]),
+        ("braking hard within 15 m of us", ["must start with the road users"]),  # no subject read
+    ],
+)
+def test_a_second_request_shows_the_refused_rewording_and_why(refused: str, told: list[str]) -> None:
+    backend = ScriptedBackend(["vehicles braking hard within 15 m of the ego vehicle"])
+    again, hint = reword_again(ChatClient(backend), ODD, refused)
+    assert again == "vehicles braking hard within 15 m of the ego vehicle"
+    request = backend.requests[0]
+    assert request.grammar == REWORD_GRAMMAR
+    assert [m.content for m in request.messages[-2:]] == [refused, hint]
+    assert request.messages[-2].role == "assistant" and request.messages[-1].role == "user"
+    for words in told:
+        assert words in hint
+
+
+@pytest.mark.parametrize(
+    ("description", "rewording"),
+    [
+        (ODD, "vehicles braking hard within 15 m of the ego vehicle"),  # it passes
+        # a changed negation: told to keep it, the model negated the wrong word
+        ("cars that do not move the whole time, i.e. parked", "parked cars"),
+    ],
+)
+def test_no_second_request_for_a_rewording_that_passes_or_changed_a_negation(
+    description: str, rewording: str
+) -> None:
+    backend = ScriptedBackend([])
+    assert reword_again(ChatClient(backend), description, rewording) == ("", "")
+    assert backend.requests == []
+
+
+def test_every_plain_phrase_shown_to_the_model_is_read_in_full_by_the_rules() -> None:
+    for phrase in PLAIN_PHRASES:
+        assert read_plan(phrase) is not None, phrase
+
+
+def test_the_synthesizer_uses_the_second_rewording_when_the_first_is_refused() -> None:
+    synth, backend = _synth(
+        ["pedestrians within 15 m of the ego vehicle", "vehicles braking hard within 15 m of the ego vehicle"]
+    )
+    plan = synth.plan_for(ODD)
+    assert plan is not None and plan["reworded"] == "vehicles braking hard within 15 m of the ego vehicle"
+    assert len(backend.requests) == 2
+    assert synth.rewordings[ODD] == {
+        "text": "vehicles braking hard within 15 m of the ego vehicle",
+        "refused": "",
+        "earlier": "pedestrians within 15 m of the ego vehicle",
+    }
+
+
+def test_a_second_refused_rewording_leaves_the_partial_reading() -> None:
+    synth, backend = _synth(
+        ["pedestrians within 15 m of the ego vehicle", "vehicles doing the routine within 15 m"]
+    )
+    plan = synth.plan_for(ODD)
+    assert plan is not None and "reworded" not in plan and plan["unread"]
+    assert len(backend.requests) == 2
+    assert "cannot read the rewording in full" in synth.rewordings[ODD]["refused"]
 
 
 def test_with_plan_reword_off_no_rewording_is_asked_for() -> None:

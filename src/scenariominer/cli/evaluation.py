@@ -482,6 +482,15 @@ def nl2prog(
             "description's numbers and road users (default: mining.generation.plan_reword).",
         ),
     ] = None,
+    reword_tries: Annotated[
+        int | None,
+        typer.Option(
+            "--reword-tries",
+            min=1,
+            help="With --plan-reword, how many rewordings to ask for at most: each further request "
+            "shows the model why its last one was refused (default: mining.generation.plan_reword_tries).",
+        ),
+    ] = None,
     config: ConfigOpt = None,
     json_out: JsonOpt = False,
 ) -> None:
@@ -508,6 +517,8 @@ def nl2prog(
         gen = dataclasses.replace(gen, plan_partial=plan_partial)
     if plan_reword is not None:
         gen = dataclasses.replace(gen, plan_reword=plan_reword)
+    if reword_tries is not None:
+        gen = dataclasses.replace(gen, plan_reword_tries=reword_tries)
     cfg = dataclasses.replace(cfg, mining=dataclasses.replace(cfg.mining, generation=gen))
     request = api.Nl2ProgEvalRequest(split, limit, tuple(logs or ()), no_bank_similar)
     usage = UsageCounter()

@@ -125,6 +125,9 @@ class GenerationConfig:
             is first rewritten in plain words by one short model call, and the rules' full reading
             of the rewording is used when it keeps the description's numbers and road users
             (:mod:`scenariominer.mine.plan_reword`); before the partial reading.
+        plan_reword_tries: how many rewordings the rewording step asks for at most: after a
+            refused one, the next request shows the model its rewording and why it was refused
+            (the words the rules could not read, the numbers to keep, ...). 1: no second request.
     """
 
     max_attempts: int = 5
@@ -144,6 +147,7 @@ class GenerationConfig:
     plan_rules: bool = True
     plan_partial: bool = True
     plan_reword: bool = True
+    plan_reword_tries: int = 2
 
     def __post_init__(self) -> None:
         try:
@@ -155,6 +159,10 @@ class GenerationConfig:
             ) from None
         if self.max_attempts < 1:
             raise ValueError(f"mining.generation.max_attempts must be >= 1, got {self.max_attempts}")
+        if self.plan_reword_tries < 1:
+            raise ValueError(
+                f"mining.generation.plan_reword_tries must be >= 1, got {self.plan_reword_tries}"
+            )
         if self.few_shot_k < 0:
             raise ValueError(f"mining.generation.few_shot_k must be >= 0, got {self.few_shot_k}")
         if self.max_tokens < 16:

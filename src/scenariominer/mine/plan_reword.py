@@ -29,7 +29,7 @@ from scenariominer.data.categories import EGO_CATEGORY, expand_categories
 from scenariominer.llm.base import Message, assistant, system, user
 from scenariominer.llm.client import ChatClient
 
-__all__ = ["REWORD_GRAMMAR", "reword", "reword_messages", "reworded_plan"]
+__all__ = ["REWORD_GRAMMAR", "reword", "reword_again", "reword_messages", "reworded_plan"]
 
 #: One line of plain text (no line break, no markup): the answer the rewording step may give.
 REWORD_GRAMMAR = r"""root ::= [A-Za-z0-9] [A-Za-z0-9 ,.'/%()^*<>=+-]{0,160}"""
@@ -119,31 +119,106 @@ def reworded_plan(description: str, rewording: str) -> tuple[dict[str, Any] | No
         (plan, reason): the plan (with ``reworded`` set) and ``""``; or ``None`` and why the
         rewording was not used.
     """
+    plan, reason, _ = _judged(description, rewording)
+    return plan, reason
+
+
+def _judged(description: str, rewording: str) -> tuple[dict[str, Any] | None, str, str]:
+    """(plan, reason, hint): :func:`reworded_plan`'s answer and what to tell the model when refused.
+
+    The hint is empty when the rewording passes, and when a second request is not worth asking.
+    """
     from scenariominer.mine.plan_reader import read_plan
 
     if not rewording:
-        return None, "the model gave no rewording"
+        return None, "the model gave no rewording", "Answer with the request in plain words."
     plan = read_plan(_REPORTED.sub("", rewording))
     if plan is None:
-        return None, f"the phrase rules cannot read the rewording in full: {rewording!r}"
+        return (
+            None,
+            f"the phrase rules cannot read the rewording in full: {rewording!r}",
+            _unread_hint(rewording),
+        )
     stated, kept = _numbers(description), _numbers(rewording)
     if stated != kept:
-        return None, (
+        numbers = ", ".join(f"{n:g}" for n in sorted(stated)) or "none"
+        return (
+            None,
             f"the rewording {rewording!r} changes the numbers stated "
-            f"({sorted(stated) or 'none'} -> {sorted(kept) or 'none'})"
+            f"({sorted(stated) or 'none'} -> {sorted(kept) or 'none'})",
+            f"Keep exactly the numbers of the request, with their units, and add none: {numbers}.",
         )
     negated = _negated(description)
     if negated != _negated(rewording):
         said = "drops the negation of" if negated else "adds a negation to"
-        return None, f"the rewording {rewording!r} {said} the description"
+        # no second request: told to keep a negation, the model negated the wrong word ("does not
+        # move ... reported as parked" -> "the car is not parked")
+        return None, f"the rewording {rewording!r} {said} the description", ""
     named = _named_categories(description)
     subject = plan["subject_category"]
     if not _categories_of(subject) <= expand_categories(named):
-        return None, f"the rewording {rewording!r} is about a road user the description does not name"
+        return (
+            None,
+            f"the rewording {rewording!r} is about a road user the description does not name",
+            "Name the road users the request names, in its own words.",
+        )
     ego_in_plan = EGO_CATEGORY in [subject, *(o["category"] for o in plan.get("related", []))]
     if ego_in_plan and EGO_CATEGORY not in named and _EGO_WORDS.search(description.lower()) is None:
-        return None, f"the rewording {rewording!r} brings in the ego vehicle, which the description does not"
-    return {**plan, "reworded": rewording}, ""
+        return (
+            None,
+            f"the rewording {rewording!r} brings in the ego vehicle, which the description does not",
+            "The request does not mention the ego vehicle: leave it out.",
+        )
+    return {**plan, "reworded": rewording}, "", ""
+
+
+def _unread_hint(rewording: str) -> str:
+    """What to tell the model about a rewording the rules cannot read: the words they left out."""
+    from scenariominer.mine.plan_prompts import PLAIN_PHRASES
+    from scenariominer.mine.plan_reader import read_plan
+
+    phrases = "; ".join(PLAIN_PHRASES)
+    partial = read_plan(_REPORTED.sub("", rewording), partial=True)
+    unread = (partial or {}).get("unread") or []
+    if partial is None:
+        problem = (
+            "It must start with the road users searched for (e.g. 'vehicles', 'pedestrians', "
+            "'the ego vehicle')."
+        )
+    elif unread:
+        problem = (
+            "These words of it are not understood: "
+            + ", ".join(f"'{w}'" for w in dict.fromkeys(unread))
+            + "."
+        )
+    else:
+        problem = "It is not understood as one search."
+    return (
+        f"The search tool cannot read that rewording. {problem} Rewrite the request once more with "
+        f"phrases like these: {phrases}. Keep every number with its unit, every direction and every "
+        "negation of the request."
+    )
+
+
+def reword_again(
+    client: ChatClient, description: str, rewording: str, *, max_tokens: int = 60
+) -> tuple[str, str]:
+    """A second rewording after ``rewording`` was refused, told why (the words the rules left out).
+
+    Returns:
+        (the new rewording, the hint that was given); ``("", "")`` when ``rewording`` passes or
+        was refused for a reason that a second request does not mend (a changed negation).
+
+    Raises:
+        BackendError: the model call failed.
+    """
+    _, _, hint = _judged(description, rewording)
+    if not hint:
+        return "", ""
+    messages = [*reword_messages(description), assistant(rewording or "-"), user(hint)]
+    completion = client.completion(messages, grammar=REWORD_GRAMMAR, max_tokens=max_tokens)
+    lines = completion.text.strip().splitlines()
+    return (" ".join(lines[0].split()) if lines else ""), hint
 
 
 def _categories_of(category: str | list[str]) -> frozenset[str]:

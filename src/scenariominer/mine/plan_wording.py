@@ -22,6 +22,7 @@ from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_news import news_wording
 from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
+from scenariominer.mine.plan_plain import plain_wording
 from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_sets import set_wording
@@ -349,7 +350,7 @@ def normalised_text(description: str) -> str:
         text,
     )
     text = re.sub(r"^(\d+ (?:cars?|vehicles?) (?:ahead|in front|forward|behind|back))", r"vehicle \1", text)
-    return _reworded(text)
+    return plain_wording(_reworded(text))
 
 
 def _ing_forms(text: str) -> str:

@@ -30,7 +30,7 @@ from scenariominer.mine.grammar import program_grammar
 from scenariominer.mine.plan import extract_plan, plan_text
 from scenariominer.mine.plan_documents import request_text
 from scenariominer.mine.plan_reader import read_plan
-from scenariominer.mine.plan_reword import reword, reworded_plan
+from scenariominer.mine.plan_reword import reword, reword_again, reworded_plan
 from scenariominer.mine.programs import ExampleProgram
 from scenariominer.mine.prompts import build_messages
 from scenariominer.retrieval import rank
@@ -248,6 +248,17 @@ class ProgramSynthesizer:
         rewording = reword(self.client, description)
         plan, reason = reworded_plan(description, rewording)
         self.rewordings[description] = {"text": rewording, "refused": reason}
+        for _ in range(self.config.plan_reword_tries - 1):
+            if plan is not None:
+                break
+            # the next request shows the refused rewording and why (the words not read, ...)
+            again, hint = reword_again(self.client, description, rewording)
+            if not hint:
+                break  # refused for a reason a second request does not mend
+            rewording = again
+            plan, reason = reworded_plan(description, rewording)
+            earlier = self.rewordings[description]
+            self.rewordings[description] = {"text": rewording, "refused": reason, "earlier": earlier["text"]}
         return plan
 
     def first_messages(self, description: str) -> list[Message]:

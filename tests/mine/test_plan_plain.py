@@ -1,0 +1,58 @@
+"""Plain wordings put in the form the phrase tables read (mine/plan_plain.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from scenariominer.mine.plan_plain import plain_wording
+from scenariominer.mine.plan_program import compile_plan
+from scenariominer.mine.plan_reader import read_plan
+
+
+@pytest.mark.parametrize(
+    ("description", "call"),
+    [
+        (
+            "pedestrian inside three meters of the ego vehicle",
+            "near_objects(subject, related_1, log_dir, distance_thresh=3)",
+        ),
+        (
+            "pedestrians ahead of the ego vehicle with a gap of 20 m",
+            "direction='forward', within_distance=20",
+        ),
+        (
+            "cars behind the ego vehicle with a gap of 15 m or less",
+            "direction='backward', within_distance=15",
+        ),
+        ("cars turning left with a minimum speed of 5 m/s", "min_velocity=5"),
+        ("cars turning right at a maximum speed of 5 m/s", "max_velocity=5"),
+        (
+            "trucks with negative acceleration",
+            "accelerating(subject, log_dir, min_accel=-inf, max_accel=-1.0)",
+        ),
+        ("the ego vehicle with acceleration greater than 1.5 m/s^2", "min_accel=1.5"),
+        (
+            "vehicle tracks with lane changes to the right",
+            "changing_lanes(subject, log_dir, direction='right')",
+        ),
+        ("orange cones on the road", "CONSTRUCTION_CONE"),
+    ],
+)
+def test_a_plain_wording_is_read_in_full_with_its_setting(description: str, call: str) -> None:
+    plan = read_plan(description)
+    assert plan is not None, description
+    assert call in compile_plan(plan).program
+
+
+def test_a_bound_the_tables_cannot_state_stays_unread() -> None:
+    # "a gap of at least 20 m" is no "within 20 m": left as written, so not read in full
+    assert (
+        plain_wording("pedestrians ahead with a gap of at least 20 m")
+        == "pedestrians ahead with a gap of at least 20 m"
+    )
+    assert read_plan("pedestrians ahead of the ego vehicle with a gap of at least 20 m") is None
+
+
+def test_with_before_anything_but_a_manoeuvre_stays() -> None:
+    assert plain_wording("vehicles with pedestrians nearby") == "vehicles with pedestrians nearby"
+    assert plain_wording("vehicle with changing lanes") == "vehicle changing lanes"
