@@ -230,3 +230,17 @@ def test_the_embedded_model_rewords_an_odd_request_into_words_the_rules_read() -
     plan, reason = reworded_plan(description, rewording)
     assert reason == "", reason
     assert plan is not None and plan["subject_category"] == "PEDESTRIAN"
+
+
+@pytest.mark.parametrize(
+    ("description", "rewording"),
+    [
+        ("trackgrep --class regular-vehicle --min-speed 10", "regular vehicles moving faster than 10 m/s"),
+        ("SELECT track FROM box_trucks WHERE parked", "parked box trucks"),
+    ],
+)
+def test_a_road_user_named_with_a_hyphen_or_underscore_counts_as_named(
+    description: str, rewording: str
+) -> None:
+    plan, reason = reworded_plan(description, rewording)
+    assert reason == "" and plan is not None

@@ -107,8 +107,10 @@ def _named_categories(text: str) -> set[str]:
     from scenariominer.mine.plan_wording import CATEGORY_RE, normalised_text
 
     named: set[str] = set()
-    for found in re.finditer(rf"(?<![\w-])(?:{CATEGORY_RE})(?![\w-])", normalised_text(text)):
-        named.update(subject_categories(found.group(0)) or ())
+    # also with hyphens as spaces: a flag's or a field's value names one too ("regular-vehicle")
+    for variant in (text, re.sub(r"(?<=[a-z])[-_](?=[a-z])", " ", text.lower())):
+        for found in re.finditer(rf"(?<![\w-])(?:{CATEGORY_RE})(?![\w-])", normalised_text(variant)):
+            named.update(subject_categories(found.group(0)) or ())
     return named
 
 
