@@ -14,7 +14,7 @@ from scenariominer.llm.client import ChatClient
 from scenariominer.llm.llamacpp import LlamaCppBackend
 from scenariominer.llm.model_files import ModelNotAvailableError, ensure_model_file
 from scenariominer.mine.plan import plan_text
-from scenariominer.mine.plan_prompts import PLAIN_PHRASES, REWORD_EXAMPLES
+from scenariominer.mine.plan_prompts import REWORD_EXAMPLES
 from scenariominer.mine.plan_reader import read_plan
 from scenariominer.mine.plan_reword import (
     REWORD_GRAMMAR,
@@ -137,29 +137,17 @@ def test_a_refused_rewording_leaves_the_partial_reading_and_says_why() -> None:
     assert len(backend.requests) == 1
 
 
-@pytest.mark.parametrize(
-    ("refused", "told"),
-    [
-        # the words the rules left out, and plain phrases they read
-        (
-            "vehicles doing a sudden-stop routine within 15 m of us",
-            ["'doing'", "'routine'", PLAIN_PHRASES[0]],
-        ),
-        ("vehicles braking hard near the ego vehicle", ["Keep exactly the numbers", ": 15."]),
-        ("pedestrians within 15 m of the ego vehicle", ["Name the road users the request names"]),
-        ("braking hard within 15 m of us", ["must start with the road users"]),  # no subject read
-    ],
-)
-def test_a_second_request_shows_the_refused_rewording_and_why(refused: str, told: list[str]) -> None:
+def test_a_second_request_shows_the_rewording_and_the_words_the_rules_left_out() -> None:
+    refused = "vehicles doing a sudden-stop routine within 15 m of us"
     backend = ScriptedBackend(["vehicles braking hard within 15 m of the ego vehicle"])
     again, hint = reword_again(ChatClient(backend), ODD, refused)
     assert again == "vehicles braking hard within 15 m of the ego vehicle"
+    assert hint == "Simpler, please: without the words 'doing', 'sudden-stop', 'routine'."
     request = backend.requests[0]
     assert request.grammar == REWORD_GRAMMAR
     assert [m.content for m in request.messages[-2:]] == [refused, hint]
     assert request.messages[-2].role == "assistant" and request.messages[-1].role == "user"
-    for words in told:
-        assert words in hint
+    assert [m.content for m in request.messages[:-2]] == [m.content for m in reword_messages(ODD)]
 
 
 @pytest.mark.parametrize(
@@ -168,9 +156,12 @@ def test_a_second_request_shows_the_refused_rewording_and_why(refused: str, told
         (ODD, "vehicles braking hard within 15 m of the ego vehicle"),  # it passes
         # a changed negation: told to keep it, the model negated the wrong word
         ("cars that do not move the whole time, i.e. parked", "parked cars"),
+        (ODD, "vehicles braking hard near the ego vehicle"),  # a number dropped
+        (ODD, "pedestrians within 15 m of the ego vehicle"),  # another road user
+        (ODD, "braking hard within 15 m of us"),  # no subject read: asked for one, it said "road users"
     ],
 )
-def test_no_second_request_for_a_rewording_that_passes_or_changed_a_negation(
+def test_no_second_request_unless_the_rules_read_the_rewording_in_part(
     description: str, rewording: str
 ) -> None:
     backend = ScriptedBackend([])
@@ -178,14 +169,12 @@ def test_no_second_request_for_a_rewording_that_passes_or_changed_a_negation(
     assert backend.requests == []
 
 
-def test_every_plain_phrase_shown_to_the_model_is_read_in_full_by_the_rules() -> None:
-    for phrase in PLAIN_PHRASES:
-        assert read_plan(phrase) is not None, phrase
-
-
 def test_the_synthesizer_uses_the_second_rewording_when_the_first_is_refused() -> None:
     synth, backend = _synth(
-        ["pedestrians within 15 m of the ego vehicle", "vehicles braking hard within 15 m of the ego vehicle"]
+        [
+            "vehicles doing a sudden-stop routine within 15 m of us",
+            "vehicles braking hard within 15 m of the ego vehicle",
+        ]
     )
     plan = synth.plan_for(ODD)
     assert plan is not None and plan["reworded"] == "vehicles braking hard within 15 m of the ego vehicle"
@@ -193,13 +182,13 @@ def test_the_synthesizer_uses_the_second_rewording_when_the_first_is_refused() -
     assert synth.rewordings[ODD] == {
         "text": "vehicles braking hard within 15 m of the ego vehicle",
         "refused": "",
-        "earlier": "pedestrians within 15 m of the ego vehicle",
+        "earlier": "vehicles doing a sudden-stop routine within 15 m of us",
     }
 
 
 def test_a_second_refused_rewording_leaves_the_partial_reading() -> None:
     synth, backend = _synth(
-        ["pedestrians within 15 m of the ego vehicle", "vehicles doing the routine within 15 m"]
+        ["vehicles doing a sudden-stop routine within 15 m of us", "vehicles doing the routine within 15 m"]
     )
     plan = synth.plan_for(ODD)
     assert plan is not None and "reworded" not in plan and plan["unread"]

@@ -487,8 +487,9 @@ def nl2prog(
         typer.Option(
             "--reword-tries",
             min=1,
-            help="With --plan-reword, how many rewordings to ask for at most: each further request "
-            "shows the model why its last one was refused (default: mining.generation.plan_reword_tries).",
+            help="With --plan-reword, how many rewordings to ask for at most: after one the rules "
+            "read only in part, the model is asked for a simpler one without the words they left out "
+            "(default: mining.generation.plan_reword_tries).",
         ),
     ] = None,
     config: ConfigOpt = None,

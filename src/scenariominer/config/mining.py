@@ -125,9 +125,9 @@ class GenerationConfig:
             is first rewritten in plain words by one short model call, and the rules' full reading
             of the rewording is used when it keeps the description's numbers and road users
             (:mod:`scenariominer.mine.plan_reword`); before the partial reading.
-        plan_reword_tries: how many rewordings the rewording step asks for at most: after a
-            refused one, the next request shows the model its rewording and why it was refused
-            (the words the rules could not read, the numbers to keep, ...). 1: no second request.
+        plan_reword_tries: how many rewordings the rewording step asks for at most: after one
+            the rules read only in part, the next request shows the model its rewording and asks
+            for a simpler one without the words they left out. 1: no second request.
     """
 
     max_attempts: int = 5

@@ -18,7 +18,6 @@ from typing import Any
 __all__ = [
     "PLAN_PROMPT_VERSION",
     "REWORD_EXAMPLES",
-    "PLAIN_PHRASES",
     "REWORD_PROMPT_VERSION",
     "plan_system_prompt",
     "plan_user_prompt",
@@ -197,30 +196,6 @@ REWORD_EXAMPLES: tuple[tuple[str, str], ...] = (
     ("BUG-1123: planner jittered when a cyclist went past us on the right",
      "bicyclists passing the ego vehicle on the right"),
 )  # fmt: skip
-
-
-#: Plain phrases the phrase rules read, shown to the model when its rewording could not be read
-#: (:func:`scenariominer.mine.plan_reword.reword_again`); a test checks that each is read in full.
-PLAIN_PHRASES: tuple[str, ...] = (
-    "vehicles within 10 m of the ego vehicle",
-    "pedestrians in front of the ego vehicle within 20 m",
-    "cars behind a bus",
-    "vehicles to the left of the ego vehicle",
-    "vehicles heading in the opposite direction to the ego vehicle",
-    "vehicles travelling perpendicular to the ego vehicle",
-    "trucks moving faster than 10 m/s",
-    "stopped buses",
-    "vehicles braking at more than 3 m/s^2",
-    "cars turning left",
-    "cars changing lanes to the right",
-    "pedestrians crossing in front of a vehicle",
-    "vehicles following the ego vehicle in the same lane",
-    "vehicles at an intersection",
-    "pedestrians on a pedestrian crossing",
-    "pedestrians not on the road",
-    "vehicles near 3 or more pedestrians",
-    "vehicles overtaking the ego vehicle on the left",
-)
 
 
 def reword_system_prompt() -> str:

@@ -15,6 +15,10 @@ checks against the original, so a rewording cannot silently change what is searc
   become "cars", not the other way round): a rewording that turns "skateboards" into "bicycles"
   or "cars in the bike lane" into "bicycles in a bike lane" is refused.
 
+When the rules read a rewording only in part, a second request (:func:`reword_again`) shows the
+model its rewording and asks for a simpler one without the words they left out
+(``mining.generation.plan_reword_tries``); the same checks decide whether that one is used.
+
 A refused or unreadable rewording changes nothing: the description goes on as before (read in
 part by the rules, else by the model's plan). The plan keeps the rewording under ``reworded`` and
 :func:`scenariominer.mine.plan.plan_text` shows it, so the user sees which words were read.
@@ -128,12 +132,14 @@ def reworded_plan(description: str, rewording: str) -> tuple[dict[str, Any] | No
 def _judged(description: str, rewording: str) -> tuple[dict[str, Any] | None, str, str]:
     """(plan, reason, hint): :func:`reworded_plan`'s answer and what to tell the model when refused.
 
-    The hint is empty when the rewording passes, and when a second request is not worth asking.
+    The hint is empty when the rewording passes, and when a second request is not worth asking:
+    only a rewording with words the rules leave out gets one (told to keep a negation, the model
+    negated the wrong word; told which numbers to keep, or shown plain phrases, it echoed them).
     """
     from scenariominer.mine.plan_reader import read_plan
 
     if not rewording:
-        return None, "the model gave no rewording", "Answer with the request in plain words."
+        return None, "the model gave no rewording", ""
     plan = read_plan(_REPORTED.sub("", rewording))
     if plan is None:
         return (
@@ -143,73 +149,59 @@ def _judged(description: str, rewording: str) -> tuple[dict[str, Any] | None, st
         )
     stated, kept = _numbers(description), _numbers(rewording)
     if stated != kept:
-        numbers = ", ".join(f"{n:g}" for n in sorted(stated)) or "none"
         return (
             None,
-            f"the rewording {rewording!r} changes the numbers stated "
-            f"({sorted(stated) or 'none'} -> {sorted(kept) or 'none'})",
-            f"Keep exactly the numbers of the request, with their units, and add none: {numbers}.",
+            (
+                f"the rewording {rewording!r} changes the numbers stated "
+                f"({sorted(stated) or 'none'} -> {sorted(kept) or 'none'})"
+            ),
+            "",
         )
     negated = _negated(description)
     if negated != _negated(rewording):
         said = "drops the negation of" if negated else "adds a negation to"
-        # no second request: told to keep a negation, the model negated the wrong word ("does not
-        # move ... reported as parked" -> "the car is not parked")
         return None, f"the rewording {rewording!r} {said} the description", ""
     named = _named_categories(description)
     subject = plan["subject_category"]
     if not _categories_of(subject) <= expand_categories(named):
-        return (
-            None,
-            f"the rewording {rewording!r} is about a road user the description does not name",
-            "Name the road users the request names, in its own words.",
-        )
+        return None, f"the rewording {rewording!r} is about a road user the description does not name", ""
     ego_in_plan = EGO_CATEGORY in [subject, *(o["category"] for o in plan.get("related", []))]
     if ego_in_plan and EGO_CATEGORY not in named and _EGO_WORDS.search(description.lower()) is None:
         return (
             None,
             f"the rewording {rewording!r} brings in the ego vehicle, which the description does not",
-            "The request does not mention the ego vehicle: leave it out.",
+            "",
         )
     return {**plan, "reworded": rewording}, "", ""
 
 
 def _unread_hint(rewording: str) -> str:
-    """What to tell the model about a rewording the rules cannot read: the words they left out."""
-    from scenariominer.mine.plan_prompts import PLAIN_PHRASES
+    """What to tell the model about a rewording the rules read only in part: the words left out.
+
+    Empty when they cannot read even its subject (asked to start with the road users, the model
+    answered "road users").
+    """
     from scenariominer.mine.plan_reader import read_plan
 
-    phrases = "; ".join(PLAIN_PHRASES)
     partial = read_plan(_REPORTED.sub("", rewording), partial=True)
-    unread = (partial or {}).get("unread") or []
-    if partial is None:
-        problem = (
-            "It must start with the road users searched for (e.g. 'vehicles', 'pedestrians', "
-            "'the ego vehicle')."
-        )
-    elif unread:
-        problem = (
-            "These words of it are not understood: "
-            + ", ".join(f"'{w}'" for w in dict.fromkeys(unread))
-            + "."
-        )
-    else:
-        problem = "It is not understood as one search."
-    return (
-        f"The search tool cannot read that rewording. {problem} Rewrite the request once more with "
-        f"phrases like these: {phrases}. Keep every number with its unit, every direction and every "
-        "negation of the request."
-    )
+    unread = list(dict.fromkeys((partial or {}).get("unread") or []))
+    if not unread:
+        return ""
+    return "Simpler, please: without the words " + ", ".join(f"'{w}'" for w in unread) + "."
 
 
 def reword_again(
     client: ChatClient, description: str, rewording: str, *, max_tokens: int = 60
 ) -> tuple[str, str]:
-    """A second rewording after ``rewording`` was refused, told why (the words the rules left out).
+    """A second rewording after ``rewording`` was refused because the rules read it only in part.
+
+    The model is shown its rewording and asked for a simpler one without the words the rules left
+    out ("car changes lanes and returns to original lane" -> "car changes lanes"); the checks of
+    :func:`reworded_plan` against ``description`` still decide whether it is used.
 
     Returns:
         (the new rewording, the hint that was given); ``("", "")`` when ``rewording`` passes or
-        was refused for a reason that a second request does not mend (a changed negation).
+        was refused for another reason (no second request is asked for then).
 
     Raises:
         BackendError: the model call failed.
