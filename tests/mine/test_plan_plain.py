@@ -56,3 +56,25 @@ def test_a_bound_the_tables_cannot_state_stays_unread() -> None:
 def test_with_before_anything_but_a_manoeuvre_stays() -> None:
     assert plain_wording("vehicles with pedestrians nearby") == "vehicles with pedestrians nearby"
     assert plain_wording("vehicle with changing lanes") == "vehicle changing lanes"
+
+
+@pytest.mark.parametrize(
+    ("description", "call"),
+    [
+        (
+            "count each truck that is stopped",
+            "has_velocity(subject, log_dir, min_velocity=0, max_velocity=0.5)",
+        ),
+        (
+            "Junction trucks: count every truck observed near an intersection.",
+            "near_intersection(subject, log_dir)",
+        ),
+        ("Parked-truck tally: each truck that stays parked for the whole log counts as one.", "stationary("),
+        ("Lane-change rate: one event per truck changing lanes to the left", "direction='left'"),
+    ],
+)
+def test_a_counting_request_is_read_as_the_search_it_counts(description: str, call: str) -> None:
+    plan = read_plan(description)
+    assert plan is not None, description
+    assert plan["subject_category"] == "TRUCK"
+    assert call in compile_plan(plan).program

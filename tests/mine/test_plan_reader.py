@@ -831,7 +831,18 @@ def test_mine_says_when_a_description_was_read_in_part(tmp_path: Path, av2_log_d
 
     from scenariominer.cli import app
 
-    args = ["mine", "cars zigzagging wildly", "--logs", str(av2_log_dir), "--no-bank"]
+    # the rules alone (no rewording by the model): what they read in part is what is reported
+    config = tmp_path / "config.toml"
+    config.write_text("[mining.generation]\nplan_reword = false\n")
+    args = [
+        "mine",
+        "cars zigzagging wildly",
+        "--logs",
+        str(av2_log_dir),
+        "--no-bank",
+        "--config",
+        str(config),
+    ]
     result = CliRunner().invoke(app, [*args, "--store", str(tmp_path / "st")])
     assert result.exit_code == 0, result.output
     assert "not read (left out, check the result): zigzagging wildly" in result.output

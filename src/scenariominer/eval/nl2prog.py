@@ -180,6 +180,8 @@ SPLITS: tuple[str, ...] = (
     "fresh69",
     "fresh70",
     "fresh71",
+    "fresh72",
+    "fresh73",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.

@@ -72,7 +72,7 @@ FILLERS = frozenset(
     {"that", "which", "who", "are", "is", "be", "being", "the", "a", "an", "any", "all", "and", "but"}
     | {"while", "also", "currently", "there", "driving", "standing"}
     | {"located", "situated", "positioned", "present", "visible", "sitting", "lying", "somewhere", "still"}
-    | {"it", "they", "does", "do"}
+    | {"it", "they", "does", "do", "observed", "seen", "spotted", "stays", "remains", "stay", "remain"}
 )
 
 

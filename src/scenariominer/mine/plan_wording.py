@@ -119,13 +119,15 @@ _SEARCH_VERB = re.compile(
     r"|i'd like|we'd like|i'm looking for|we're looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
     r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any"
-    r"|collect"
+    r"|collect|count|tally|log|record|log (?:1|one) event for|(?:1|one) event (?:per|for)"
     r"|how often (?:do|does|is|are)(?: there)?|(?:when|where) (?:do|does|did|is|are)(?: there)?"
     r"|list every (?:time|moment|instance|case)(?: (?:that|when|where))?)"
     r"(?: (?:all|every|each|any|the|an?))?(?: (?:instances?|cases?|examples?|occurrences?|situations?"
     r"|scenarios?|scenes?|frames?|moments?|events?|clips?|times?)"
     r"(?: (?:of|where|with|in which|when|that))?)?\s+"
 )
+#: "..., counts as one (event)", "... is counted": what is done with the result, not part of it.
+_COUNTS_AS_ONE = re.compile(r",?\s+(?:counts?|is counted|are counted)(?: as (?:1|one)(?: event)?)?$")
 #: A list of three or more road users ("pedestrians, cyclists or scooters").
 _LIST = re.compile(
     rf"(?<![\w-])(?P<head>{CATEGORY_RE})(?P<tail>(?:,\s*(?:other\s+)?(?:{CATEGORY_RE}))+),?\s+"
@@ -327,7 +329,11 @@ def normalised_text(description: str) -> str:
     # feet as metres ("within 20 feet": 6.096 m)
     text = re.sub(r"\b(\d+(?:\.\d+)?) ?(?:feet|foot|ft)\b", lambda m: f"{_metres(m.group(1))} m", text)
     # "cross traffic: vehicles moving perpendicular to the ego": the definition after the colon
+    # ("a metric's name: count each bus near an intersection": without its search verb, and
+    # without "... counts as one" after it)
     named, colon, definition = text.partition(": ")
+    if colon:
+        definition = re.sub(r"^(?:each|every) ", "", _COUNTS_AS_ONE.sub("", _SEARCH_VERB.sub("", definition)))
     if colon and SUBJECT.match(definition):
         text = definition
     elif colon and (subject := SUBJECT.match(named)) and re.match(r"(?:ones|those) ", definition):
