@@ -233,3 +233,49 @@ def test_a_road_user_named_with_a_hyphen_or_underscore_counts_as_named(
 ) -> None:
     plan, reason = reworded_plan(description, rewording)
     assert reason == "" and plan is not None
+
+
+def test_a_speed_unit_the_description_does_not_state_is_read_as_metres_per_second() -> None:
+    plan, reason = reworded_plan(
+        "class:REGULAR_VEHICLE AND speed:>15", "regular vehicles moving faster than 15 km/h"
+    )
+    assert reason == "" and plan is not None
+    assert plan["conditions"][0]["argument"] == "min_velocity=15.0"
+    assert plan["reworded"] == "regular vehicles moving faster than 15 m/s"  # shown as it was read
+    plan, _ = reworded_plan("trucks > 30 km/h", "trucks moving faster than 30 km/h")  # stated: kept
+    assert plan is not None and plan["conditions"][0]["argument"] == "min_velocity=8.33"
+
+
+@pytest.mark.parametrize(
+    ("description", "rewording", "used"),
+    [
+        (
+            "ego AND left_side:REGULAR_VEHICLE AND dist<=4",
+            "the ego vehicle with a regular vehicle within 4 m",
+            False,
+        ),
+        ("Given a car When it turns right Then return it", "car turning left", False),
+        (
+            "car merging over, kinda rightwards",
+            "car changing lanes to the right",
+            True,
+        ),  # no side word: not compared
+        (
+            "Cones sitting right on the road #ConeZone",
+            "construction cones on the road",
+            True,
+        ),  # an intensifier
+        (
+            "Given a car When it turns right at a junction Then return it",
+            "car turning right at an intersection",
+            True,
+        ),
+    ],
+)
+def test_a_rewording_must_keep_the_sides_the_description_states(
+    description: str, rewording: str, used: bool
+) -> None:
+    plan, reason = reworded_plan(description, rewording)
+    assert (plan is not None) is used, reason
+    if not used:
+        assert "changes the sides stated" in reason

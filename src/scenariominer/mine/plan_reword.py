@@ -100,6 +100,37 @@ _BOUND = re.compile(r"\bno (?:more|less|fewer|further|farther|faster|slower|clos
 _EGO_WORDS = re.compile(r"\b(?:ego|we|us|our|ours|me|my|av|sdv|adv)\b")
 
 
+#: A speed unit other than the tools' own (m/s).
+_SPEED_UNIT = re.compile(
+    r"\b(?:km/h|km/hr|kmh|kph|kilomet(?:re|er)s? (?:per|an|a) hour|mph|miles? (?:per|an|a) hour)(?![\w/])",
+    re.IGNORECASE,
+)
+
+
+def _units_as_stated(description: str, rewording: str) -> str:
+    """``rewording`` with a speed unit the description does not state put back as m/s.
+
+    A bare "speed:>15" means 15 m/s (the tools' unit); the model tends to add "km/h" to it.
+    """
+    if _SPEED_UNIT.search(description) is not None:
+        return rewording
+    return _SPEED_UNIT.sub("m/s", rewording)
+
+
+#: "right" as an intensifier ("sitting right on the road", "right next to"), no side.
+_RIGHT_AS_INTENSIFIER = re.compile(
+    r"(?<!turn )(?<!turns )(?<!turning )(?<!turned )(?<!the )(?<!go )(?<!going )(?<!veer )(?<!veering )"
+    r"(?<!swerve )(?<!swerving )(?<!lanes )(?<!lane )(?<!keep )(?<!keeping )(?<!far )"
+    r"\bright (?=(?:on|in|at|into|onto|next|beside|by|there|here|now|away|up|behind|before|after)\b)"
+)
+
+
+def _sides(text: str) -> set[str]:
+    """The sides the text names ("left", "right"; also inside a field name, "left_side")."""
+    text = _RIGHT_AS_INTENSIFIER.sub(" ", text.lower())
+    return set(re.findall(r"(?<![a-z])(left|right)(?:wards?)?(?![a-z])", text))
+
+
 def _negated(text: str) -> bool:
     """Whether the text negates or excludes anything."""
     return _NEGATION.search(_BOUND.sub(" ", text.lower())) is not None
@@ -140,6 +171,7 @@ def _judged(description: str, rewording: str) -> tuple[dict[str, Any] | None, st
 
     if not rewording:
         return None, "the model gave no rewording", ""
+    rewording = _units_as_stated(description, rewording)
     plan = read_plan(_REPORTED.sub("", rewording))
     if plan is None:
         return (
@@ -157,6 +189,8 @@ def _judged(description: str, rewording: str) -> tuple[dict[str, Any] | None, st
             ),
             "",
         )
+    if _sides(description) != _sides(rewording):
+        return None, f"the rewording {rewording!r} changes the sides stated (left, right)", ""
     negated = _negated(description)
     if negated != _negated(rewording):
         said = "drops the negation of" if negated else "adds a negation to"
