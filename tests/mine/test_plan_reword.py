@@ -279,3 +279,34 @@ def test_a_rewording_must_keep_the_sides_the_description_states(
     assert (plan is not None) is used, reason
     if not used:
         assert "changes the sides stated" in reason
+
+
+#: Not read by the phrase rules even in part (no road user first).
+UNREAD = "yikes!! so much hard braking from the cars lol"
+
+
+def test_a_description_not_even_read_in_part_gets_the_partial_reading_of_its_rewording() -> None:
+    assert read_plan(UNREAD, partial=True) is None
+    synth, backend = _synth(["cars braking hard in a weird way", "cars braking hard in a weird way again"])
+    plan = synth.plan_for(UNREAD)
+    assert plan is not None and plan["reworded"] == "cars braking hard in a weird way again"
+    assert plan["subject_category"] == "REGULAR_VEHICLE" and plan["unread"] == ["in", "weird", "way", "again"]
+    assert len(backend.requests) == 2  # the second request was made and refused first
+    assert synth.rewordings[UNREAD]["in_part"] == "used"
+
+
+def test_the_partial_reading_of_a_rewording_passes_the_same_checks() -> None:
+    synth, backend = _synth(["trucks braking hard in a weird way"] + ["no plan"] * 5, plan_reword_tries=1)
+    plan = synth.plan_for(UNREAD)
+    assert plan is not None and "error" in plan  # left to the model's own plan (here no valid one)
+    assert backend.requests[1].grammar != REWORD_GRAMMAR  # the plan request came next
+    assert "does not name" in synth.rewordings[UNREAD]["in_part"]
+
+
+def test_with_plan_partial_off_a_rewording_is_used_only_in_full() -> None:
+    replies = ["cars braking hard in a weird way"] + ["no plan"] * 5
+    synth, backend = _synth(replies, plan_reword_tries=1, plan_partial=False)
+    plan = synth.plan_for(UNREAD)
+    assert plan is not None and "error" in plan  # left to the model's own plan (here no valid one)
+    assert backend.requests[1].grammar != REWORD_GRAMMAR
+    assert "in_part" not in synth.rewordings[UNREAD]

@@ -289,7 +289,9 @@ def evaluate_nl2prog(
             plan = rules_plan(description, partial=gen.plan_partial)
         if plan is None or plan.get("read_by") != "rules":
             return "model"
-        return "reworded" if plan.get("reworded") else "partial" if plan.get("unread") else "rules"
+        if plan.get("reworded"):
+            return "reworded-partial" if plan.get("unread") else "reworded"
+        return "partial" if plan.get("unread") else "rules"
 
     with step(progress, "descriptions", len(entries)):
         return _evaluate_nl2prog(

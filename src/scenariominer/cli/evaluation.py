@@ -361,6 +361,7 @@ def render_nl2prog(ev: Nl2ProgEvaluation, title: str) -> None:
         "rules": "read by the phrase rules",
         "reworded": "from the model's rewording",
         "partial": "in part (some words left out)",
+        "reworded-partial": "from the model's rewording, in part",
         "model": "read by the model",
     }
     if readers["rules"].n_descriptions or readers["partial"].n_descriptions:

@@ -100,8 +100,9 @@ __all__ = [
 #: Name of the evaluation-set file shipped in this package.
 EVAL_SET_FILE = "nl2prog_set.toml"
 
-#: Who reads a description into a plan: the phrase rules, every word or some, or the model.
-READERS: tuple[str, ...] = ("rules", "reworded", "partial", "model")
+#: Who reads a description into a plan: the phrase rules (every word; every word of the model's
+#: rewording; some words; some words of the rewording), or the model.
+READERS: tuple[str, ...] = ("rules", "reworded", "partial", "reworded-partial", "model")
 
 #: The splits of the set.
 SPLITS: tuple[str, ...] = (

@@ -149,18 +149,29 @@ def _named_categories(text: str) -> set[str]:
     return named
 
 
-def reworded_plan(description: str, rewording: str) -> tuple[dict[str, Any] | None, str]:
+def reworded_plan(
+    description: str, rewording: str, *, partial: bool = False
+) -> tuple[dict[str, Any] | None, str]:
     """The phrase rules' full reading of ``rewording`` if it passes the checks against ``description``.
+
+    Args:
+        description: the request as written.
+        rewording: the model's plain rewording of it.
+        partial: accept the rules' partial reading of the rewording (the words they left out
+            listed under ``unread``), for a description they cannot read even in part; the checks
+            are the same.
 
     Returns:
         (plan, reason): the plan (with ``reworded`` set) and ``""``; or ``None`` and why the
         rewording was not used.
     """
-    plan, reason, _ = _judged(description, rewording)
+    plan, reason, _ = _judged(description, rewording, partial=partial)
     return plan, reason
 
 
-def _judged(description: str, rewording: str) -> tuple[dict[str, Any] | None, str, str]:
+def _judged(
+    description: str, rewording: str, *, partial: bool = False
+) -> tuple[dict[str, Any] | None, str, str]:
     """(plan, reason, hint): :func:`reworded_plan`'s answer and what to tell the model when refused.
 
     The hint is empty when the rewording passes, and when a second request is not worth asking:
@@ -172,8 +183,10 @@ def _judged(description: str, rewording: str) -> tuple[dict[str, Any] | None, st
     if not rewording:
         return None, "the model gave no rewording", ""
     rewording = _units_as_stated(description, rewording)
-    plan = read_plan(_REPORTED.sub("", rewording))
+    plan = read_plan(_REPORTED.sub("", rewording), partial=partial)
     if plan is None:
+        if partial:
+            return None, f"the phrase rules cannot read the rewording even in part: {rewording!r}", ""
         return (
             None,
             f"the phrase rules cannot read the rewording in full: {rewording!r}",
