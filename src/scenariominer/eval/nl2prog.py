@@ -183,6 +183,7 @@ SPLITS: tuple[str, ...] = (
     "fresh71",
     "fresh72",
     "fresh73",
+    "fresh74",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
