@@ -6,11 +6,14 @@ them reading it only in part or not at all, and the 1.5B model's own plans and p
 weaker than the rules' reading. Rewriting a sentence into plain words is a task a small model does
 well, so when the rules cannot read a description in full, one short model call rewrites it
 ("actor: pedestrian / location: pedestrian_crossing" -> "pedestrians on a pedestrian crossing")
-and the rules read the rewording. It is used only when they read it *in full* and it passes two
+and the rules read the rewording. It is used only when they read it *in full* and it passes
 checks against the original, so a rewording cannot silently change what is searched for:
 
 * every number of the original is in the rewording and no other (a dropped "1.5 m/s^2" or an
-  invented "10 m" would change the program);
+  invented "10 m" would change the program), and a speed unit the original does not state is
+  read as m/s, the tools' unit ("speed:>15" -> "faster than 15 km/h" is read as 15 m/s);
+* the same sides (left, right) and a negation exactly when the original has one;
+* the ego vehicle only when the original names it;
 * its road user is one the original names, or a member of a group it names ("vehicles" may
   become "cars", not the other way round): a rewording that turns "skateboards" into "bicycles"
   or "cars in the bike lane" into "bicycles in a bike lane" is refused.
@@ -20,7 +23,9 @@ model its rewording and asks for a simpler one without the words they left out
 (``mining.generation.plan_reword_tries``); the same checks decide whether that one is used.
 
 A refused or unreadable rewording changes nothing: the description goes on as before (read in
-part by the rules, else by the model's plan). The plan keeps the rewording under ``reworded`` and
+part by the rules, else by the model's plan), except that a description the rules cannot read even
+in part gets their partial reading of the rewording when it passes the same checks
+(``reworded_plan(..., partial=True)``). The plan keeps the rewording under ``reworded`` and
 :func:`scenariominer.mine.plan.plan_text` shows it, so the user sees which words were read.
 """
 
