@@ -259,12 +259,13 @@ def test_a_speed_unit_the_description_does_not_state_is_read_as_metres_per_secon
             "car merging over, kinda rightwards",
             "car changing lanes to the right",
             True,
-        ),  # no side word: not compared
+        ),  # "rightwards" names the side too
         (
             "Cones sitting right on the road #ConeZone",
             "construction cones on the road",
             True,
         ),  # an intensifier
+        ("A car rolls right over the crosswalk!", "cars moving on a pedestrian crossing", True),
         (
             "Given a car When it turns right at a junction Then return it",
             "car turning right at an intersection",

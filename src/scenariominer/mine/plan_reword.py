@@ -122,11 +122,13 @@ def _units_as_stated(description: str, rewording: str) -> str:
     return _SPEED_UNIT.sub("m/s", rewording)
 
 
-#: "right" as an intensifier ("sitting right on the road", "right next to"), no side.
+#: "right" as an intensifier ("sitting right on the road", "right next to", "rolls right over the
+#: crosswalk"), no side.
 _RIGHT_AS_INTENSIFIER = re.compile(
     r"(?<!turn )(?<!turns )(?<!turning )(?<!turned )(?<!the )(?<!go )(?<!going )(?<!veer )(?<!veering )"
     r"(?<!swerve )(?<!swerving )(?<!lanes )(?<!lane )(?<!keep )(?<!keeping )(?<!far )"
-    r"\bright (?=(?:on|in|at|into|onto|next|beside|by|there|here|now|away|up|behind|before|after)\b)"
+    r"\bright (?=(?:on|in|at|into|onto|next|beside|by|there|here|now|away|up|behind|before|after|over"
+    r"|across|through|past|out|down|along|off)\b)"
 )
 
 
