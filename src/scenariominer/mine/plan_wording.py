@@ -119,7 +119,7 @@ _SEARCH_VERB = re.compile(
     r"|i'd like|we'd like|i'm looking for|we're looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
     r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any"
-    r"|collect|count|tally|log|record|log (?:1|one) event for|(?:1|one) event (?:per|for)"
+    r"|collect|count|tally|log|record|(?:1|one) event (?:per|for)"
     r"|how often (?:do|does|is|are)(?: there)?|(?:when|where) (?:do|does|did|is|are)(?: there)?"
     r"|list every (?:time|moment|instance|case)(?: (?:that|when|where))?)"
     r"(?: (?:all|every|each|any|the|an?))?(?: (?:instances?|cases?|examples?|occurrences?|situations?"
