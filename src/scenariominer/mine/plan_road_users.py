@@ -13,7 +13,11 @@ __all__ = ["CATEGORY_PHRASES"]
 CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"(?:the )?ego(?: vehicle| car)?|(?:the )?self[- ]driving (?:car|vehicle)", ("EGO_VEHICLE",)),
     (r"our (?:car|vehicle)", ("EGO_VEHICLE",)),
-    (r"(?:the )?(?:av|autonomous (?:car|vehicle)|test vehicle|host (?:car|vehicle))", ("EGO_VEHICLE",)),
+    (
+        r"(?:the )?(?:av|autonomous (?:car|vehicle)|test vehicle|host (?:car|vehicle)|vehicle under test"
+        r"|(?:subject|instrumented|probe|experimental|data[- ]collection|recording) (?:car|vehicle))",
+        ("EGO_VEHICLE",),
+    ),
     (r"vulnerable road users?|vrus?", ("VULNERABLE_ROAD_USER",)),
     (
         r"people riding (?:bicycles|bikes)|bicycle riders?|bike riders?"
@@ -78,7 +82,7 @@ CATEGORY_PHRASES: tuple[tuple[str, tuple[str, ...]], ...] = (
     (r"strollers?|prams?|pushchairs?", ("STROLLER",)),
     (
         r"pedestrians?|people|persons?|someone|somebody|peds?|walkers?|joggers?|passers?-by|passerby"
-        r"|children|child|kids?",
+        r"|children|child|kids?|m[ae]n|wom[ae]n|lad(?:y|ies)|guys?|boys?|girls?|teenagers?|runners?",
         ("PEDESTRIAN",),
     ),
     (r"dogs?", ("DOG",)),

@@ -16,8 +16,10 @@ import re
 from scenariominer.mine.plan_documents import camel_words, document_wording
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
+from scenariominer.mine.plan_graph import graph_pattern
 from scenariominer.mine.plan_instructions import instruction_wording
 from scenariominer.mine.plan_learners import learner_wording
+from scenariominer.mine.plan_methods import methods_wording
 from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_news import news_wording
 from scenariominer.mine.plan_notes import plain_notes
@@ -27,6 +29,7 @@ from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_sets import set_wording
 from scenariominer.mine.plan_spelling import corrected_spelling
+from scenariominer.mine.plan_witness import witness_wording
 from scenariominer.mine.plan_yaml import yaml_block
 
 __all__ = [
@@ -287,8 +290,8 @@ def normalised_text(description: str) -> str:
     # typing slips put right and CamelCase names split, a parameter block's lines (it needs its
     # line breaks), then the wording of a ticket, a clause or a requirement around the request, a
     # set (its gloss after the closing brace is dropped), a request among other sentences
-    text = corrected_spelling(camel_words(description).lower())
-    text = document_wording(" ".join(yaml_block(text).split()))
+    text = corrected_spelling(camel_words(graph_pattern(description)).lower())
+    text = witness_wording(methods_wording(document_wording(" ".join(yaml_block(text).split()))))
     text = request_sentence(set_wording(text))
     text = present_tense(
         _spec_lines(

@@ -1,0 +1,389 @@
+"""A graph-database pattern query, put in the plain words the phrase rules read.
+
+Users of graph databases write a scenario as a Cypher-like pattern: road users are nodes labelled
+by their category, what holds between them is a relationship, and a ``WHERE`` clause tests their
+properties, e.g. ``MATCH (p:Pedestrian)-[:NEAR {max_m: 5}]->(e:Ego) WHERE p.speed > 1 RETURN p``.
+:func:`graph_pattern` rewrites such a query into one English phrase about the returned node:
+"pedestrian moving faster than 1 m/s and near the ego vehicle within 5 m". Map features are nodes
+too (``(:Crosswalk)``, ``(:Intersection)``, ``(:DrivableArea)``; two road users ``IN`` the same
+``(:Lane)`` node share a lane). Relationship and property names are the user's own, so they are
+read as words (``CROSSING_IN_FRONT_OF`` -> "crossing in front of", ``FOLLOWS`` -> "following",
+``is_parked = true`` -> "parked"); the returned node as the target of a relationship takes its
+inverse ("being followed by", "behind"). A query that has alternatives (``OR``), a condition on a
+road user other than the returned one, or a part this reading does not know comes back unchanged,
+for the other readers (and the language model) to read.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from scenariominer.mine.plan_nouns import CATEGORY_RE
+
+__all__ = ["graph_pattern"]
+
+_QUERY = re.compile(
+    r"^\s*match\s+(?P<pattern>.+?)(?:\s+where\s+(?P<where>.+?))?\s+return\s+(?:distinct\s+)?"
+    r"(?P<ret>[a-z_]\w*)\b[^()]*?;?\s*$",
+    re.IGNORECASE | re.DOTALL,
+)
+_NODE = re.compile(
+    r"\(\s*(?P<var>[a-z_]\w*)?\s*(?::\s*(?P<label>[a-z_][\w]*))?\s*(?P<props>\{[^{}]*\})?\s*\)", re.IGNORECASE
+)
+_REL = re.compile(
+    r"\s*(?P<left><)?-\s*(?:\[\s*(?P<var>[a-z_]\w*)?\s*(?::\s*(?P<type>[a-z_]\w*))?\s*(?P<props>\{[^{}]*\})?\s*\])?"
+    r"\s*-(?P<right>>)?\s*",
+    re.IGNORECASE,
+)
+_NUMBER = r"-?\d+(?:\.\d+)?"
+_VALUE = rf"(?:{_NUMBER}|'[^']*'|\"[^\"]*\"|true|false)"
+_COMPARISON = re.compile(
+    rf"^(?P<var>[a-z_]\w*)\.(?P<prop>[a-z_]\w*)\s*(?P<op><>|!=|>=|<=|=~|==|=|<|>)\s*(?P<value>{_VALUE})$",
+    re.IGNORECASE,
+)
+_FLAG = re.compile(r"^(?P<var>[a-z_]\w*)\.(?P<prop>[a-z_]\w*)$", re.IGNORECASE)
+
+#: Labels of the ego vehicle (lower case, without underscores).
+_EGO = frozenset({"ego", "egovehicle", "av", "self", "sdc", "autonomousvehicle", "ourcar", "host"})
+#: Map features as the phrase after a relationship; ``None`` for a lane (read with a second user).
+_MAP: dict[str, str | None] = {
+    "crosswalk": "a crosswalk",
+    "pedestriancrossing": "a crosswalk",
+    "crossing": "a crosswalk",
+    "zebracrossing": "a crosswalk",
+    "intersection": "an intersection",
+    "junction": "an intersection",
+    "drivablearea": "the drivable area",
+    "road": "the road",
+    "roadway": "the road",
+    "lane": None,
+}
+#: Relationship verbs in the third person, as the -ing form ("FOLLOWS" -> "following").
+_VERBS = {
+    "follows": "following",
+    "overtakes": "overtaking",
+    "passes": "passing",
+    "approaches": "approaching",
+    "crosses": "crossing",
+    "faces": "facing",
+    "heads": "heading",
+    "tailgates": "tailgating",
+    "yields": "yielding",
+    "turns": "turning",
+    "moves": "moving",
+    "drives": "driving",
+    "travels": "travelling",
+}
+#: Relationship words as the returned node's phrase when it is the relationship's target.
+_INVERSE = {
+    "following": "being followed by",
+    "tailgating": "being followed by",
+    "overtaking": "being overtaken by",
+    "passing": "being overtaken by",
+    "near": "near",
+    "close to": "near",
+    "next to": "near",
+    "within": "within",
+    "ahead of": "behind",
+    "in front of": "behind",
+    "behind": "ahead of",
+    "to the left of": "to the right of",
+    "to the right of": "to the left of",
+    "in the same lane as": "in the same lane as",
+}
+#: Relationship types that mean one of the phrases above in other words.
+_REL_WORDS = {
+    "left of": "to the left of",
+    "right of": "to the right of",
+    "same lane": "in the same lane as",
+    "same lane as": "in the same lane as",
+    "in same lane as": "in the same lane as",
+    "in lane of": "in the same lane as",
+    "crosses in front of": "crossing in front of",
+    "is in front of": "in front of",
+}
+_LOCATED = frozenset({"on", "in", "at", "inside", "within", "located in", "located on", "located at"})
+
+
+class _Unknown(Exception):
+    """A part of the query this reading does not put in words."""
+
+
+@dataclass
+class _Query:
+    labels: dict[str, str] = field(default_factory=dict)  # variable -> label (lower case)
+    #: (source, relationship words, stated distance in metres or None, target, negated)
+    edges: list[tuple[str, str, str | None, str, bool]] = field(default_factory=list)
+    #: (variable, phrase) conditions on a node's properties
+    conditions: list[tuple[str, str]] = field(default_factory=list)
+    #: relationship variable -> its index in ``edges``
+    relationships: dict[str, int] = field(default_factory=dict)
+    anonymous: int = 0
+
+
+def graph_pattern(description: str) -> str:
+    """``description`` as plain words when it is a graph pattern query, else unchanged."""
+    found = _QUERY.match(description)
+    if found is None:
+        return description
+    try:
+        query = _Query()
+        # a second MATCH is another part of the same pattern
+        pattern = re.sub(r"\s+match\s+", ", ", found.group("pattern"), flags=re.IGNORECASE)
+        for path in _top_level_split(pattern, ","):
+            _read_path(path.strip(), query, negated=False)
+        if found.group("where"):
+            for test in _top_level_split(found.group("where"), " and "):
+                _read_test(test.strip(), query)
+        return _words(query, found.group("ret"))
+    except _Unknown:
+        return description
+
+
+def _top_level_split(text: str, separator: str) -> list[str]:
+    """``text`` split at ``separator`` (case-insensitive) outside brackets and quotes."""
+    parts, depth, quote, start, i = [], 0, "", 0, 0
+    lowered = text.lower()
+    while i < len(text):
+        ch = text[i]
+        if quote:
+            quote = "" if ch == quote else quote
+        elif ch in "'\"":
+            quote = ch
+        elif ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+        elif depth == 0 and lowered.startswith(separator, i):
+            parts.append(text[start:i])
+            start = i + len(separator)
+            i = start
+            continue
+        i += 1
+    parts.append(text[start:])
+    return [p for p in parts if p.strip()]
+
+
+def _read_path(path: str, query: _Query, *, negated: bool) -> None:
+    """The nodes and relationships of one path ``(a:A)-[:R]->(b:B)...`` into ``query``."""
+    node = _NODE.match(path)
+    if node is None:
+        raise _Unknown(path)
+    previous, at = _add_node(node, query), node.end()
+    while at < len(path):
+        rel = _REL.match(path, at)
+        if rel is None:
+            raise _Unknown(path[at:])
+        node = _NODE.match(path, rel.end())
+        if node is None or not rel.group("type"):
+            raise _Unknown(path[at:])
+        current = _add_node(node, query)
+        words, distance = _relationship(rel.group("type"), rel.group("props"))
+        if rel.group("var"):
+            query.relationships[rel.group("var")] = len(query.edges)
+        if rel.group("left") and not rel.group("right"):
+            query.edges.append((current, words, distance, previous, negated))
+        else:
+            query.edges.append((previous, words, distance, current, negated))
+        previous, at = current, node.end()
+
+
+def _add_node(node: re.Match[str], query: _Query) -> str:
+    var = node.group("var")
+    if not var:
+        query.anonymous += 1
+        var = f"_{query.anonymous}"
+    label = node.group("label")
+    if label:
+        query.labels[var] = label.lower().replace("_", "")
+    elif var not in query.labels:
+        raise _Unknown(f"node {var} has no label")
+    for prop, value in _properties(node.group("props")):
+        query.conditions.append((var, _property_words(prop, "=", value)))
+    return var
+
+
+def _properties(props: str | None) -> list[tuple[str, str]]:
+    """The ``{key: value, ...}`` map of a node or relationship as (key, value) pairs."""
+    if not props:
+        return []
+    pairs = []
+    for item in _top_level_split(props.strip("{} "), ","):
+        key, colon, value = item.partition(":")
+        if not colon or not re.fullmatch(_VALUE, value.strip(), re.IGNORECASE):
+            raise _Unknown(item)
+        pairs.append((key.strip().lower(), value.strip().strip("'\"").lower()))
+    return pairs
+
+
+def _relationship(kind: str, props: str | None) -> tuple[str, str | None]:
+    """A relationship type as words, and the distance in metres its properties state."""
+    words = kind.lower().replace("_", " ").strip()
+    words = re.sub(r"^(?:is|are|has|was) ", "", words)
+    first, _, rest = words.partition(" ")
+    words = " ".join([_VERBS.get(first, first), *([rest] if rest else [])])
+    words = _REL_WORDS.get(words, words)
+    distance = None
+    for key, value in _properties(props):
+        if re.fullmatch(_NUMBER, value) and re.search(
+            r"dist|max|within|range|radius|(?:^|_)m$|meters|metres", key
+        ):
+            distance = value
+        else:
+            raise _Unknown(f"{key}: {value}")
+    return words, distance
+
+
+def _read_test(test: str, query: _Query) -> None:
+    """One conjunct of the ``WHERE`` clause into ``query``."""
+    if re.search(r"\bor\b|\bxor\b", test, re.IGNORECASE):
+        raise _Unknown("or")
+    negated = False
+    while (inner := re.match(r"^not\s*(?P<rest>.+)$|^\((?P<paren>.+)\)$", test, re.IGNORECASE)) is not None:
+        if inner.group("rest") is not None:
+            negated, test = not negated, inner.group("rest").strip()
+        elif _NODE.fullmatch(test) or "-" in test and _NODE.match(test):
+            break  # a pattern in brackets: the node's own brackets
+        else:
+            test = inner.group("paren").strip()
+    test = re.sub(r"^exists\s*[({]\s*(?P<p>.+?)\s*[)}]$", r"\g<p>", test, flags=re.IGNORECASE)
+    if _NODE.match(test) and _REL.search(test):
+        _read_path(test, query, negated=negated)
+        return
+    if (cmp := _COMPARISON.match(test)) is not None:
+        op = cmp.group("op")
+        if negated:
+            op = {"=": "<>", "==": "<>", "<>": "=", "!=": "="}.get(op, "")
+            if not op:
+                raise _Unknown(test)
+        value = cmp.group("value").strip("'\"").lower()
+        if cmp.group("var") in query.relationships:
+            _relationship_test(query, cmp.group("var"), cmp.group("prop").lower(), op, value)
+            return
+        query.conditions.append((cmp.group("var"), _property_words(cmp.group("prop").lower(), op, value)))
+        return
+    if (flag := _FLAG.match(test)) is not None:
+        value = "false" if negated else "true"
+        query.conditions.append((flag.group("var"), _property_words(flag.group("prop").lower(), "=", value)))
+        return
+    raise _Unknown(test)
+
+
+def _relationship_test(query: _Query, var: str, prop: str, op: str, value: str) -> None:
+    """A distance bound on a relationship variable (``r.distance < 5``) as that relationship's."""
+    if not (op in ("<", "<=") and re.fullmatch(_NUMBER, value) and re.search(r"dist|range|(?:^|_)m$", prop)):
+        raise _Unknown(f"{var}.{prop} {op} {value}")
+    index = query.relationships[var]
+    source, words, _, target, negated = query.edges[index]
+    query.edges[index] = (source, words, value, target, negated)
+
+
+def _property_words(prop: str, op: str, value: str) -> str:
+    """A property test as words: ``speed > 10`` -> "moving faster than 10 m/s"."""
+    prop = re.sub(r"^(?:is|has)_", "", prop)
+    unit = "km/h" if re.search(r"kmh|kph", prop) else "mph" if "mph" in prop else "m/s"
+    number = re.fullmatch(_NUMBER, value) is not None
+    if re.match(r"(?:abs_?)?(?:speed|velocity|vel)\b|(?:speed|velocity)_", prop) and number and op in "<=>":
+        if op in (">", ">="):
+            return f"moving faster than {value} {unit}"
+        if op in ("<", "<="):
+            return f"moving slower than {value} {unit}"
+    if re.match(r"(?:accel|acceleration|acc)(?:_|$)", prop) and number and op in ("<", "<=", ">", ">="):
+        return f"with acceleration {'below' if op[0] == '<' else 'above'} {value} m/s^2"
+    if op in ("=", "==", "<>", "!="):
+        positive = op in ("=", "==")
+        if value in ("true", "false"):
+            words = prop.replace("_", " ")
+            return words if positive == (value == "true") else f"not {words}"
+        if not number and positive:
+            if re.fullmatch(r"turn(?:ing)?(?:_dir(?:ection)?)?|turn_?type|manoeuvre|maneuver", prop):
+                return f"turning {value}"
+            if re.fullmatch(r"lane_?change(?:_dir(?:ection)?)?|changing_lanes|lane_change_side", prop):
+                return f"changing lanes to the {value}"
+            if re.fullmatch(r"state|status|motion|activity|action", prop):
+                return value.replace("_", " ")
+    raise _Unknown(f"{prop} {op} {value}")
+
+
+def _noun(label: str) -> str:
+    """A road-user label as words ("boxtruck" -> "box truck"); not a road user: :class:`_Unknown`."""
+    if label in _EGO:
+        return "the ego vehicle"
+    if label in _MAP:
+        raise _Unknown(f"a map feature is no road user: {label}")
+    noun = {
+        "regularvehicle": "regular vehicle",
+        "boxtruck": "box truck",
+        "wheeleddevice": "wheeled device",
+    }.get(label, label)
+    if re.fullmatch(CATEGORY_RE, noun) is None:
+        raise _Unknown(f"not a road user: {label}")
+    return noun
+
+
+def _with_article(noun: str) -> str:
+    return noun if noun.startswith("the ") else f"{'an' if noun[0] in 'aeiou' else 'a'} {noun}"
+
+
+def _words(query: _Query, returned: str) -> str:
+    """The phrase of the returned node: its noun, its property tests, its relationships."""
+    if returned not in query.labels:
+        raise _Unknown(returned)
+    phrases = [phrase for var, phrase in query.conditions if var == returned]
+    adjectives: dict[str, list[str]] = {}
+    for var, phrase in query.conditions:
+        if var != returned:
+            # another road user's test: a one-word state only ("a parked car")
+            if not re.fullmatch(r"moving|stationary|parked|stopped", phrase):
+                raise _Unknown(phrase)
+            adjectives.setdefault(var, []).append(phrase)
+
+    def other(var: str) -> str:
+        label = query.labels[var]
+        if label in _MAP:
+            if _MAP[label] is None:
+                raise _Unknown("lane")
+            return str(_MAP[label])
+        return _with_article(" ".join([*adjectives.get(var, []), _noun(label)]))
+
+    lane_edges, lane_mates = _shared_lanes(query, returned)
+    for source, words, distance, target, negated in query.edges:
+        if (source, target) in lane_edges:
+            continue
+        if source == returned:
+            if query.labels[target] in _MAP and words in _LOCATED:
+                words = "in" if query.labels[target] in ("intersection", "junction") else "on"
+            phrase = f"{words} {other(target)}"
+        elif target == returned:
+            if words not in _INVERSE:
+                raise _Unknown(words)
+            phrase = f"{_INVERSE[words]} {other(source)}"
+        else:
+            raise _Unknown("a relationship between two other nodes")
+        if distance is not None:
+            phrase = (
+                f"within {distance} m of {other(target if source == returned else source)}"
+                if words in ("within", "near", "close to")
+                else f"{phrase} within {distance} m"
+            )
+        phrases.append(f"not {phrase}" if negated else phrase)
+    phrases += [f"in the same lane as {other(mate)}" for mate in lane_mates]
+    return " ".join([_noun(query.labels[returned]), " and ".join(phrases)]).strip()
+
+
+def _shared_lanes(query: _Query, returned: str) -> tuple[set[tuple[str, str]], list[str]]:
+    """The lane nodes that the returned node shares with one other road user.
+
+    Returns the (road user, lane) edges of those lane nodes and the other road users; a lane node
+    used otherwise is not read (:class:`_Unknown`).
+    """
+    edges: set[tuple[str, str]] = set()
+    mates: list[str] = []
+    for lane in sorted(var for var, label in query.labels.items() if label == "lane"):
+        users = sorted({s for s, w, _, t, neg in query.edges if t == lane and not neg and w in _LOCATED})
+        if returned not in users or len(users) != 2:
+            raise _Unknown("a lane node")
+        edges |= {(user, lane) for user in users}
+        mates += [user for user in users if user != returned]
+    return edges, mates

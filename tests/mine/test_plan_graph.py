@@ -1,0 +1,107 @@
+"""Graph pattern queries (Cypher-like) put in the words the phrase tables read (mine/plan_graph.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from scenariominer.mine.plan_graph import graph_pattern
+from scenariominer.mine.plan_program import compile_plan
+from scenariominer.mine.plan_reader import read_plan
+
+
+@pytest.mark.parametrize(
+    ("query", "calls"),
+    [
+        (
+            "MATCH (p:Pedestrian)-[:NEAR {max_m: 5}]->(e:Ego) RETURN p",
+            ["category='PEDESTRIAN'", "near_objects(subject, related_1, log_dir, distance_thresh=5)"],
+        ),
+        (
+            "MATCH (t:Truck)<-[:FOLLOWS]-(e:Ego) RETURN t",
+            ["category='TRUCK'", "reverse_relationship(following)(related_1, subject, log_dir)"],
+        ),
+        (
+            "MATCH (e:EgoVehicle)-[:OVERTAKES]->(t:Truck) RETURN t",
+            ["category='TRUCK'", "being_crossed_by"],
+        ),
+        (
+            "MATCH (v:Vehicle) WHERE NOT (v)-[:ON]->(:DrivableArea) RETURN v",
+            ["scenario_not(in_drivable_area)(subject, log_dir)"],
+        ),
+        (
+            "MATCH (v:Vehicle)-[:IN]->(l:Lane)<-[:IN]-(e:Ego) RETURN v",
+            ["in_same_lane(subject, related_1, log_dir)"],
+        ),
+        (
+            "MATCH (v:Vehicle)-[r:NEAR]->(p:Pedestrian) WHERE r.distance < 5 RETURN v",
+            ["category='PEDESTRIAN'", "near_objects(subject, related_1, log_dir, distance_thresh=5)"],
+        ),
+        (
+            "MATCH (b:BoxTruck)-[:NEAR]->(v:Vehicle {parked: true}) RETURN b",
+            ["category='BOX_TRUCK'", "related_1 = stationary(related_1, log_dir)"],
+        ),
+        (
+            "MATCH (v:RegularVehicle) WHERE v.speed_kmh > 50 AND v.turning = 'left' RETURN v",
+            ["min_velocity=13.89", "turning(step_1, log_dir, direction='left')"],
+        ),
+        (
+            "match (v:vehicle) where v.acceleration < -3 return v",
+            ["accelerating(subject, log_dir, min_accel=-inf, max_accel=-3"],
+        ),
+        (
+            "MATCH (v:Vehicle) WHERE NOT v.is_stationary AND (v)-[:IN]->(:Intersection) RETURN DISTINCT v;",
+            ["scenario_not(stationary)", "on_intersection"],
+        ),
+        ("MATCH (p:Pedestrian)-[:CROSSING_IN_FRONT_OF]->(e:Ego) RETURN p.track_id", ["being_crossed_by"]),
+        ("MATCH (d:Dog) RETURN d", ["category='DOG'"]),
+    ],
+)
+def test_a_pattern_query_is_read_in_full(query: str, calls: list[str]) -> None:
+    plan = read_plan(query)
+    assert plan is not None, graph_pattern(query)
+    program = compile_plan(plan).program
+    for call in calls:
+        assert call in program, program
+
+
+def test_a_pattern_is_put_in_words_about_the_returned_node() -> None:
+    assert graph_pattern("MATCH (v:Vehicle)-[:BEHIND {max_distance: 15}]->(e:Ego) RETURN v") == (
+        "vehicle behind the ego vehicle within 15 m"
+    )
+    # the same relationship, the other node returned: its inverse
+    assert (
+        graph_pattern("MATCH (v:Vehicle)-[:BEHIND]->(e:Ego) RETURN e") == "the ego vehicle ahead of a vehicle"
+    )
+    assert graph_pattern("MATCH (p:Pedestrian), (e:Ego) WHERE (p)-[:NEAR {distance_m: 10}]-(e) RETURN p") == (
+        "pedestrian within 10 m of the ego vehicle"
+    )
+
+
+@pytest.mark.parametrize(
+    "query",
+    [
+        # alternatives
+        "MATCH (v:Vehicle) WHERE v.speed > 10 OR v.turning = 'left' RETURN v",
+        # a test on a road user other than the returned one (beyond a one-word state)
+        "MATCH (v:Vehicle)-[:NEAR]->(p:Pedestrian) WHERE p.speed > 2 RETURN v",
+        # a label that names no road user
+        "MATCH (v:Vehicle)-[:CHANGES_LANE_TO]->(:Left) RETURN v",
+        # a property this reading does not know
+        "MATCH (v:Vehicle) WHERE v.heading_change > 30 RETURN v",
+        # a relationship between two nodes that are not returned
+        "MATCH (v:Vehicle), (p:Pedestrian)-[:ON]->(c:Crosswalk) WHERE (v)-[:NEAR]->(p) RETURN v",
+        # the returned node as the target of a relationship without a known inverse
+        "MATCH (v:Vehicle)-[:YIELDS_TO]->(p:Pedestrian) RETURN p",
+    ],
+)
+def test_a_query_this_reading_does_not_know_comes_back_unchanged(query: str) -> None:
+    assert graph_pattern(query) == query
+
+
+def test_text_that_is_no_pattern_query_comes_back_unchanged() -> None:
+    for text in (
+        "match the cars turning left",
+        "vehicles (parked) near the ego vehicle",
+        "MATCH cars RETURN them",
+    ):
+        assert graph_pattern(text) == text

@@ -1,0 +1,59 @@
+"""A witness's account read as the event it reports (mine/plan_witness.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from scenariominer.mine.plan_program import compile_plan
+from scenariominer.mine.plan_reader import read_plan
+from scenariominer.mine.plan_witness import witness_wording
+
+
+@pytest.mark.parametrize(
+    ("description", "calls"),
+    [
+        (
+            "I was stopped at the lights when a man walked across the road right in front of us.",
+            ["category='PEDESTRIAN'", "direction='forward'"],
+        ),
+        (
+            "As we approached the junction, a truck turned left across our path.",
+            ["category='TRUCK'", "turning(subject, log_dir, direction='left')"],
+        ),
+        (
+            "We were driving along when the car ahead of us braked hard.",
+            ["category='REGULAR_VEHICLE'", "accelerating(", "direction='forward'"],
+        ),
+        ("There was a pedestrian on the zebra crossing as we slowed down.", ["at_pedestrian_crossing("]),
+        (
+            "We had just turned right when a pedestrian stepped off the kerb.",
+            ["category='PEDESTRIAN'", "on_road("],
+        ),
+        ("I could see a man standing in the middle of the road.", ["category='PEDESTRIAN'", "on_road("]),
+    ],
+)
+def test_the_event_of_a_witness_statement_is_read_in_full(description: str, calls: list[str]) -> None:
+    plan = read_plan(description)
+    assert plan is not None, description
+    program = compile_plan(plan).program
+    for call in calls:
+        assert call in program, program
+
+
+def test_the_scene_and_the_witness_car_are_dropped() -> None:
+    assert witness_wording("i was sitting in the back and saw a bus pull out in front of us") == (
+        "a bus pull out in front of us"
+    )
+    assert witness_wording("a cyclist came up on our left side while we were turning right") == (
+        "a cyclist came up on our left"
+    )
+    assert witness_wording("while we were waiting to turn left, a van went past us") == "a van passed us"
+
+
+def test_text_without_the_witness_comes_back_unchanged() -> None:
+    for text in (
+        "a man walking when the light is red",
+        "the truck passing a parked car",
+        "vehicles turning left",
+    ):
+        assert witness_wording(text) == text
