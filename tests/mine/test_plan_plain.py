@@ -78,3 +78,45 @@ def test_a_counting_request_is_read_as_the_search_it_counts(description: str, ca
     assert plan is not None, description
     assert plan["subject_category"] == "TRUCK"
     assert call in compile_plan(plan).program
+
+
+@pytest.mark.parametrize(
+    ("description", "calls"),
+    [
+        (
+            "Our planner logs look odd near bus stops. If you have a moment, could you pull up buses that are"
+            " stopped? Cheers.",
+            ["category='BUS'", "max_velocity=0.5"],
+        ),
+        (
+            "I'm preparing a demo for Friday. Would you kindly find times when there's a dog on the road?"
+            " Thanks again.",
+            ["category='DOG'", "on_road("],
+        ),
+        (
+            "Quick favour. If it's not too much trouble, I'd like to see trucks turning left. You're a star.",
+            ["category='TRUCK'", "direction='left'"],
+        ),
+        (
+            "Braking KPI: count each occasion a bus decelerates at more than 3 m/s².",
+            ["category='BUS'", "max_accel=-3"],
+        ),
+        (
+            "Exposure metric: one event each time another vehicle is within 4 metres of the ego vehicle.",
+            ["category='VEHICLE'", "distance_thresh=4"],
+        ),
+        (
+            "strollers, things like prams, that have a pedestrian nearby",
+            ["category='STROLLER'", "near_objects("],
+        ),
+        ("cars waiting near an intersection, not the parked ones", ["scenario_not(stationary)"]),
+    ],
+)
+def test_a_request_among_polite_sentences_or_a_count_is_read_in_full(
+    description: str, calls: list[str]
+) -> None:
+    plan = read_plan(description)
+    assert plan is not None, description
+    program = compile_plan(plan).program
+    for call in calls:
+        assert call in program, program

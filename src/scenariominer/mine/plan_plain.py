@@ -37,6 +37,16 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # "vehicle with changing lanes to the right", "ego vehicle with accelerating more than ...":
     # a manoeuvre joined by "with" (after "lane changes" and "acceleration" became verbs)
     (re.compile(rf"\bwith (?={_MANOEUVRE}\b)"), ""),
+    # "wheeled devices that have a pedestrian nearby": with one nearby
+    (re.compile(r"\b(?:that|which|who) (?:has|have) (?=(?:an?|\d+|at least \d+|several|some|other) [\w ]+?"
+                r" (?:nearby|close by|around)$)"), "with "),
+    # "another vehicle within 3 m of ...": a vehicle (the first words name the subject)
+    (re.compile(r"^another (?=\w)"), ""),
+    (re.compile(r"\broad objects?(?: of any (?:kind|type|sort))?\b"), "objects"),
+    (re.compile(r"\bobjects? of any (?:kind|type|sort)\b"), "objects"),
+    (re.compile(r"\bour ego vehicle\b"), "the ego vehicle"),
+    # "stopped near an intersection, not the parked ones": and not parked
+    (re.compile(r",? not the (parked|moving|stopped|stationary) ones\b"), r" and not \1"),
     # "orange cones": the cones
     (re.compile(r"\borange (?=(?:traffic |construction )?(?:cones?|barrels?|pylons?)\b)"), ""),
 )  # fmt: skip

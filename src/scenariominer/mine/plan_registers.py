@@ -415,8 +415,20 @@ _OTHERS: tuple[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]], ...
 
 #: A sentence that asks for the result ("Find vehicles ...", "Show me ...").
 _REQUEST = re.compile(
-    r"^(?:please |so |now )?(?:find|show(?: me)?|list|retrieve|get|look for|search for|select|return"
-    r"|pull(?: up)?|give me|locate|identify|extract|collect|query)\b"
+    r"^(?:please |so |now |but )?(?:(?:could|can|would|will) you (?:please |kindly |mind |maybe )*)?"
+    r"(?:please )?(?:find|show(?: me)?|list|retrieve|get|look for|search for|select|return|pull(?: up)?"
+    r"|give me|locate|identify|extract|collect|query|dig up|fetch|bring up|track down|grab|look up|surface"
+    r"|find me"
+    r"|(?:i'd|i would|we'd|we would) (?:like|love) to see|i (?:want|need) to see)\b"
+)
+
+
+#: A polite clause before the request ("If it's not too much trouble, I'd like to see ...").
+_POLITE_LEAD = re.compile(
+    r"^(?:if it'?s not too much (?:trouble|bother)|if you (?:can|could|don't mind"
+    r"|have (?:a|the) (?:moment|minute|chance|time))|when(?:ever)? you (?:get|have) (?:a|the)"
+    r" (?:chance|moment|minute)|whenever you can"
+    r"|if possible|when you can|no rush,? but|sorry to bother you,? but),? "
 )
 
 
@@ -428,7 +440,7 @@ def request_sentence(text: str) -> str:
     "Find vehicles ...; we saw late braking in this situation." -> "find vehicles ...". A text with
     no such sentence, or with two, is returned as it is.
     """
-    sentences = [s for s in re.split(r"(?<=[.!?;])\s+", text.strip()) if s]
+    sentences = [_POLITE_LEAD.sub("", s) for s in re.split(r"(?<=[.!?;])\s+", text.strip()) if s]
     asked = [s for s in sentences if _REQUEST.match(s)]
     if len(sentences) < 2 or len(asked) != 1:
         return text

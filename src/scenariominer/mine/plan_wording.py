@@ -117,17 +117,18 @@ VERB_PARTICLES = {"speeding": ("up",), "slowing": ("down",), "changing": ("lane"
 
 #: "find (all) (instances of)": words that ask for the result rather than describe it.
 _SEARCH_VERB = re.compile(
-    r"^(?:please )?(?:(?:could|can|would|will) you (?:please )?)?"
+    r"^(?:please )?(?:(?:could|can|would|will) you (?:please |kindly |maybe )*)?"
     r"(?:(?:(?:i |we )?(?:need|want|would like|am looking for|are looking for)"
     r"|i'd like|we'd like|i'm looking for|we're looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
     r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any"
-    r"|collect|count|tally|log|record|(?:1|one) event (?:per|for)"
+    r"|collect|count|tally|log|record|(?:1|one) event(?: (?:per|for))?"
     r"|how often (?:do|does|is|are)(?: there)?|(?:when|where) (?:do|does|did|is|are)(?: there)?"
     r"|list every (?:time|moment|instance|case)(?: (?:that|when|where))?)"
     r"(?: (?:all|every|each|any|the|an?))?(?: (?:instances?|cases?|examples?|occurrences?|situations?"
-    r"|scenarios?|scenes?|frames?|moments?|events?|clips?|times?)"
-    r"(?: (?:of|where|with|in which|when|that))?)?\s+"
+    r"|scenarios?|scenes?|frames?|moments?|events?|clips?|times?|occasions?|stretch(?:es)? of time|periods?"
+    r"|spells?|episodes?|instants?)"
+    r"(?: (?:of|where|with|in which|when|that))?)?(?: there(?:'s| is| are))?\s+"
 )
 #: "..., counts as one (event)", "... is counted": what is done with the result, not part of it.
 _COUNTS_AS_ONE = re.compile(r",?\s+(?:counts?|is counted|are counted)(?: as (?:1|one)(?: event)?)?$")
@@ -303,7 +304,11 @@ def normalised_text(description: str) -> str:
         )
     )
     # examples between commas add nothing to read ("vehicles that were not cars, like trucks, ...")
-    text = re.sub(r", (?:like|such as|e\.g\.?|for example|including) [^,()]*,", " ", text)
+    text = re.sub(
+        r", (?:(?:things|ones|stuff|objects) )?(?:like|such as|e\.g\.?|for example|including) [^,()]*,",
+        " ",
+        text,
+    )
     text = " ".join(_listed_road_users(text).replace(",", " ").split()).rstrip(".!?")
     # "jaywalkers, i.e. pedestrians on the road ...": the definition after "i.e." when it names a
     # road user first
@@ -336,7 +341,9 @@ def normalised_text(description: str) -> str:
     # without "... counts as one" after it)
     named, colon, definition = text.partition(": ")
     if colon:
-        definition = re.sub(r"^(?:each|every) ", "", _COUNTS_AS_ONE.sub("", _SEARCH_VERB.sub("", definition)))
+        definition = re.sub(
+            r"^(?:each|every|another) ", "", _COUNTS_AS_ONE.sub("", _SEARCH_VERB.sub("", definition))
+        )
     if colon and SUBJECT.match(definition):
         text = definition
     elif colon and (subject := SUBJECT.match(named)) and re.match(r"(?:ones|those) ", definition):
