@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from plan_checks import assert_program_has
 
 from scenariominer.mine.plan_graph import graph_pattern
-from scenariominer.mine.plan_program import compile_plan
-from scenariominer.mine.plan_reader import read_plan
 
 
 @pytest.mark.parametrize(
@@ -57,11 +56,7 @@ from scenariominer.mine.plan_reader import read_plan
     ],
 )
 def test_a_pattern_query_is_read_in_full(query: str, calls: list[str]) -> None:
-    plan = read_plan(query)
-    assert plan is not None, graph_pattern(query)
-    program = compile_plan(plan).program
-    for call in calls:
-        assert call in program, program
+    assert_program_has(query, calls)
 
 
 def test_a_pattern_is_put_in_words_about_the_returned_node() -> None:

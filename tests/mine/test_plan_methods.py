@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from plan_checks import assert_program_has
 
 from scenariominer.mine.plan_methods import methods_wording
-from scenariominer.mine.plan_program import compile_plan
 from scenariominer.mine.plan_reader import read_plan
 
 
@@ -47,11 +47,7 @@ from scenariominer.mine.plan_reader import read_plan
     ],
 )
 def test_the_scenario_inside_a_methods_sentence_is_read_in_full(description: str, calls: list[str]) -> None:
-    plan = read_plan(description)
-    assert plan is not None, description
-    program = compile_plan(plan).program
-    for call in calls:
-        assert call in program, program
+    assert_program_has(description, calls)
 
 
 def test_the_frame_is_dropped_before_and_after_the_scenario() -> None:

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from plan_checks import assert_program_has
 
-from scenariominer.mine.plan_program import compile_plan
-from scenariominer.mine.plan_reader import read_plan
 from scenariominer.mine.plan_witness import witness_wording
 
 
@@ -33,11 +32,7 @@ from scenariominer.mine.plan_witness import witness_wording
     ],
 )
 def test_the_event_of_a_witness_statement_is_read_in_full(description: str, calls: list[str]) -> None:
-    plan = read_plan(description)
-    assert plan is not None, description
-    program = compile_plan(plan).program
-    for call in calls:
-        assert call in program, program
+    assert_program_has(description, calls)
 
 
 def test_the_scene_and_the_witness_car_are_dropped() -> None:
