@@ -53,6 +53,29 @@ from scenariominer.mine.plan_graph import graph_pattern
         ),
         ("MATCH (p:Pedestrian)-[:CROSSING_IN_FRONT_OF]->(e:Ego) RETURN p.track_id", ["being_crossed_by"]),
         ("MATCH (d:Dog) RETURN d", ["category='DOG'"]),
+        # a relationship's direction, a relative direction, an inverse with the other road user named
+        (
+            "MATCH (t:Truck)-[:TURNS {dir: 'left'}]->(:Junction) RETURN t",
+            ["category='TRUCK'", "turning(", "direction='left'", "on_intersection("],
+        ),
+        (
+            "MATCH (b:Bus)-[:MOVES {relative_direction: 'opposite'}]->(e:Ego) RETURN b",
+            ["heading_in_relative_direction_to(", "direction='opposite'"],
+        ),
+        (
+            "MATCH (p:Pedestrian)-[:CROSSES_IN_FRONT_OF]->(t:Truck) RETURN t",
+            ["category='TRUCK'", "being_crossed_by("],
+        ),
+        # "HAS_AHEAD": the other road user ahead of the returned one; a count with WITH
+        (
+            "MATCH (t:Truck) WHERE NOT (t)-[:HAS_AHEAD {max_m: 25}]->(:Vehicle) RETURN t",
+            ["scenario_not(has_objects_in_relative_direction)", "direction='forward', within_distance=25"],
+        ),
+        (
+            "MATCH (b:Bus)-[:CLOSE_TO {within_m: 15}]->(p:Pedestrian)"
+            " WITH b, count(p) AS k WHERE k > 2 RETURN b",
+            ["near_objects(subject, related_1, log_dir, distance_thresh=15, min_objects=3)"],
+        ),
     ],
 )
 def test_a_pattern_query_is_read_in_full(query: str, calls: list[str]) -> None:
@@ -85,6 +108,8 @@ def test_a_pattern_is_put_in_words_about_the_returned_node() -> None:
         "MATCH (v:Vehicle) WHERE v.heading_change > 30 RETURN v",
         # a relationship between two nodes that are not returned
         "MATCH (v:Vehicle), (p:Pedestrian)-[:ON]->(c:Crosswalk) WHERE (v)-[:NEAR]->(p) RETURN v",
+        # an angle is no distance
+        "MATCH (e:Ego)-[:FACES {max_angle_deg: 15}]->(p:Pedestrian) RETURN e",
         # the returned node as the target of a relationship without a known inverse
         "MATCH (v:Vehicle)-[:YIELDS_TO]->(p:Pedestrian) RETURN p",
     ],

@@ -41,6 +41,20 @@ from scenariominer.mine.plan_reader import read_plan
             ["category='PEDESTRIAN'", "category='EGO_VEHICLE'", "near_objects"],
         ),
         (
+            "Cases were identified in which a bus decelerated (longitudinal acceleration below -2 m/s²)"
+            " while a pedestrian was located behind it within 10 m.",
+            ["max_accel=-2", "direction='backward', within_distance=10"],
+        ),
+        (
+            "We retained all trucks for which no other vehicle was present behind within 25 m.",
+            ["scenario_not(has_objects_in_relative_direction)", "direction='backward', within_distance=25"],
+        ),
+        (
+            "Segments were retained in which a bus had at least two pedestrians ahead of it"
+            " at a distance of no more than 12 m.",
+            ["direction='forward', within_distance=12, min_number=2"],
+        ),
+        (
             "The dataset was filtered for vehicles whose speed exceeded 15 m/s.",
             ["min_velocity=15"],
         ),

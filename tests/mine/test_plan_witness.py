@@ -29,6 +29,16 @@ from scenariominer.mine.plan_witness import witness_wording
             ["category='PEDESTRIAN'", "on_road("],
         ),
         ("I could see a man standing in the middle of the road.", ["category='PEDESTRIAN'", "on_road("]),
+        # the witness alone: "me", "my" are the car they were in
+        (
+            "The bus in front of me in my lane came to a complete stop.",
+            ["category='BUS'", "direction='forward'", "in_same_lane(", "max_velocity=0.5"],
+        ),
+        ("For a while I was following a truck.", ["category='EGO_VEHICLE'", "following(subject"]),
+        (
+            "A van coming the other way from me turned off to its right.",
+            ["direction='opposite'", "turning(", "direction='right'"],
+        ),
     ],
 )
 def test_the_event_of_a_witness_statement_is_read_in_full(description: str, calls: list[str]) -> None:

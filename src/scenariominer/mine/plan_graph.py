@@ -42,6 +42,11 @@ _COMPARISON = re.compile(
     rf"^(?P<var>[a-z_]\w*)\.(?P<prop>[a-z_]\w*)\s*(?P<op><>|!=|>=|<=|=~|==|=|<|>)\s*(?P<value>{_VALUE})$",
     re.IGNORECASE,
 )
+_COUNTED = re.compile(
+    r"\s+with\s+(?P<kept>[a-z_]\w*)\s*,\s*count\(\s*(?:distinct\s+)?(?P<var>[a-z_]\w*)\s*\)\s+as\s+(?P<n>[a-z_]\w*)"
+    r"\s+where\s+(?P=n)\s*(?P<op>>=|>|=)\s*(?P<number>\d+)(?=\s+return\b)",
+    re.IGNORECASE,
+)
 _FLAG = re.compile(r"^(?P<var>[a-z_]\w*)\.(?P<prop>[a-z_]\w*)$", re.IGNORECASE)
 
 #: Labels of the ego vehicle (lower case, without underscores).
@@ -74,23 +79,49 @@ _VERBS = {
     "moves": "moving",
     "drives": "driving",
     "travels": "travelling",
+    "walks": "walking",
+    "rides": "riding",
+    "goes": "going",
+    "runs": "running",
 }
-#: Relationship words as the returned node's phrase when it is the relationship's target.
+#: Relationship words as the returned node's phrase when it is the relationship's target ("{}":
+#: the other road user).
 _INVERSE = {
-    "following": "being followed by",
-    "tailgating": "being followed by",
-    "overtaking": "being overtaken by",
-    "passing": "being overtaken by",
-    "near": "near",
-    "close to": "near",
-    "next to": "near",
-    "within": "within",
-    "ahead of": "behind",
-    "in front of": "behind",
-    "behind": "ahead of",
-    "to the left of": "to the right of",
-    "to the right of": "to the left of",
-    "in the same lane as": "in the same lane as",
+    "following": "being followed by {}",
+    "tailgating": "being followed by {}",
+    "overtaking": "being overtaken by {}",
+    "passing": "being overtaken by {}",
+    "near": "near {}",
+    "close to": "near {}",
+    "next to": "near {}",
+    "within": "within {}",
+    "ahead of": "behind {}",
+    "in front of": "behind {}",
+    "behind": "ahead of {}",
+    "to the left of": "to the right of {}",
+    "to the right of": "to the left of {}",
+    "in the same lane as": "in the same lane as {}",
+    "crossing in front of": "with {} crossing in front of it",
+    "crossing": "being crossed by {}",
+}
+#: "HAS_AHEAD", "HAS_BEHIND": the other road user where it is, seen from the returned node.
+_HAS = {
+    "ahead": "ahead of it",
+    "in front": "in front of it",
+    "behind": "behind it",
+    "left": "to the left of it",
+    "right": "to the right of it",
+    "on left": "to the left of it",
+    "on right": "to the right of it",
+    "nearby": "nearby",
+    "near": "nearby",
+}
+#: Verbs of motion a relative direction qualifies ("TRAVELS {relative_direction: 'opposite'}").
+_MOTION = frozenset({"travelling", "moving", "driving", "walking", "heading", "going", "riding"})
+_RELATIVE = {
+    "opposite": "in the opposite direction to",
+    "same": "in the same direction as",
+    "perpendicular": "perpendicular to",
 }
 #: Relationship types that mean one of the phrases above in other words.
 _REL_WORDS = {
@@ -119,16 +150,26 @@ class _Query:
     conditions: list[tuple[str, str]] = field(default_factory=list)
     #: relationship variable -> its index in ``edges``
     relationships: dict[str, int] = field(default_factory=dict)
+    #: variable -> the least number of such road users ("WITH e, count(p) AS n WHERE n >= 3")
+    counts: dict[str, int] = field(default_factory=dict)
     anonymous: int = 0
 
 
 def graph_pattern(description: str) -> str:
     """``description`` as plain words when it is a graph pattern query, else unchanged."""
-    found = _QUERY.match(description)
+    query = _Query()
+    # "WITH e, count(p) AS n WHERE n >= 3": at least 3 of p
+    counted = _COUNTED.search(description)
+    if counted is not None:
+        least = int(counted["number"]) + (1 if counted["op"] == ">" else 0)
+        query.counts[counted["var"]] = least
+        description_seen = description[: counted.start()] + " " + description[counted.end() :]
+    else:
+        description_seen = description
+    found = _QUERY.match(description_seen)
     if found is None:
         return description
     try:
-        query = _Query()
         # a second MATCH is another part of the same pattern
         pattern = re.sub(r"\s+match\s+", ", ", found.group("pattern"), flags=re.IGNORECASE)
         for path in _top_level_split(pattern, ","):
@@ -218,18 +259,37 @@ def _properties(props: str | None) -> list[tuple[str, str]]:
 
 
 def _relationship(kind: str, props: str | None) -> tuple[str, str | None]:
-    """A relationship type as words, and the distance in metres its properties state."""
+    """A relationship type as words, and the distance in metres its properties state.
+
+    ``HAS_AHEAD`` stays "has ahead" (the other road user is ahead of this one); a direction
+    property qualifies a turn or a lane change ("TURNING {direction: 'right'}" -> "turning right")
+    and a relative direction a motion ("TRAVELS {relative_direction: 'opposite'}" -> "travelling in
+    the opposite direction to"). An angle, or any other property, is not read.
+    """
     words = kind.lower().replace("_", " ").strip()
-    words = re.sub(r"^(?:is|are|has|was) ", "", words)
+    words = re.sub(r"^(?:is|are|was) ", "", words)
     first, _, rest = words.partition(" ")
     words = " ".join([_VERBS.get(first, first), *([rest] if rest else [])])
     words = _REL_WORDS.get(words, words)
     distance = None
     for key, value in _properties(props):
+        if re.search(r"angle|deg|heading|yaw", key):
+            raise _Unknown(f"{key}: {value}")
         if re.fullmatch(_NUMBER, value) and re.search(
             r"dist|max|within|range|radius|(?:^|_)m$|meters|metres", key
         ):
             distance = value
+        elif (
+            re.search(r"(?:^|_)(?:dir|direction|side|way)$", key) and value in _RELATIVE and words in _MOTION
+        ):
+            words = f"{words} {_RELATIVE[value]}"
+        elif re.search(r"(?:^|_)(?:dir|direction|side|way)$", key) and value in ("left", "right"):
+            if words in ("turning", "turn"):
+                words = f"turning {value}"
+            elif re.fullmatch(r"chang(?:es|ing) lanes?(?: to)?|lane change", words):
+                words = f"changing lanes to the {value}"
+            else:
+                raise _Unknown(f"{key}: {value}")
         else:
             raise _Unknown(f"{key}: {value}")
     return words, distance
@@ -351,25 +411,55 @@ def _words(query: _Query, returned: str) -> str:
     for source, words, distance, target, negated in query.edges:
         if (source, target) in lane_edges:
             continue
-        if source == returned:
-            if query.labels[target] in _MAP and words in _LOCATED:
-                words = "in" if query.labels[target] in ("intersection", "junction") else "on"
-            phrase = f"{words} {other(target)}"
-        elif target == returned:
-            if words not in _INVERSE:
-                raise _Unknown(words)
-            phrase = f"{_INVERSE[words]} {other(source)}"
-        else:
+        if returned not in (source, target):
             raise _Unknown("a relationship between two other nodes")
-        if distance is not None:
+        mate = target if source == returned else source
+        counted = query.counts.get(mate)
+        if counted is not None and query.labels[mate] not in _MAP and query.labels[mate] not in _EGO:
+            named = f"at least {counted} {_plural(_noun(query.labels[mate]))}"
+        elif counted is not None:
+            raise _Unknown("a count of a map feature or of the ego vehicle")
+        else:
+            named = other(mate)
+        if counted is not None and words in ("within", "close to"):
+            words = "near"
+        phrase = _edge_phrase(words, named, query.labels[mate], outgoing=source == returned, negated=negated)
+        if counted is not None and words == "near" and distance is not None:
+            phrase = f"with {named} within {distance} m"  # "with at least 3 pedestrians within 20 m"
+        elif distance is not None:
             phrase = (
-                f"within {distance} m of {other(target if source == returned else source)}"
-                if words in ("within", "near", "close to")
+                f"within {distance} m of {named}"
+                if words in ("within", "near", "close to") and not negated
                 else f"{phrase} within {distance} m"
             )
-        phrases.append(f"not {phrase}" if negated else phrase)
+        phrases.append(f"not {phrase}" if negated and not words.startswith("has ") else phrase)
     phrases += [f"in the same lane as {other(mate)}" for mate in lane_mates]
     return " ".join([_noun(query.labels[returned]), " and ".join(phrases)]).strip()
+
+
+def _edge_phrase(words: str, named: str, label: str, *, outgoing: bool, negated: bool) -> str:
+    """The phrase of one relationship of the returned node with the road user or place ``named``."""
+    if not outgoing:
+        if words not in _INVERSE:
+            raise _Unknown(words)
+        return _INVERSE[words].format(named)
+    if words.startswith("has "):
+        where = _HAS.get(words[4:])
+        if where is None:
+            raise _Unknown(words)
+        if negated:
+            return f"with no {re.sub(r'^(?:an?|the) ', '', named)} {where}"
+        return f"with {named} {where}"
+    if label in _MAP and words in _LOCATED:
+        return f"{'in' if label in ('intersection', 'junction') else 'on'} {named}"
+    if label in _MAP and words.split()[0] in _MOTION | {"turning", "changing"}:
+        return f"{words} on {named}"
+    return f"{words} {named}"
+
+
+def _plural(noun: str) -> str:
+    """``noun`` in the plural ("bus" -> "buses", "box truck" -> "box trucks")."""
+    return noun + ("es" if noun.endswith(("s", "x", "ch", "sh")) else "s")
 
 
 def _shared_lanes(query: _Query, returned: str) -> tuple[set[tuple[str, str]], list[str]]:

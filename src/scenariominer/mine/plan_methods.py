@@ -14,6 +14,7 @@ one that keeps it: such a sentence comes back unchanged.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
 __all__ = ["methods_wording"]
 
@@ -79,7 +80,19 @@ _FRAMES = [
     # "X were annotated for further analysis"
     re.compile(rf"^(?:only )?(?P<x>.+?),? {_BE} (?:then |subsequently |also )?{_KEPT}{_PURPOSE}$"),
 ]
-_INNER = [
+#: A bound in words as the tables' word for it.
+_BOUND = {
+    "below": "below",
+    "under": "below",
+    "less than": "below",
+    "at most": "below",
+    "above": "above",
+    "over": "above",
+    "exceeding": "above",
+    "greater than": "above",
+    "at least": "above",
+}
+_INNER: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     # "was observed within 5 m": the state, not the observing
     (re.compile(r"\b(?:was|were|is|are) (?:observed|detected|seen|found|recorded|present) (?=\S)"), ""),
     (
@@ -106,6 +119,40 @@ _INNER = [
             r"\d+(?:\.\d+)?\s*(?:km/h|kph|mph|m/s|ft|feet|m|metres|meters|s|seconds)\)"
         ),
         "",
+    ),
+    # "decelerated (longitudinal acceleration below -1 m/s²)": the definition in brackets is the test
+    (
+        re.compile(
+            r"\b(?:accelerat|decelerat|brak)\w* \((?:i\.e\.,? |defined as |with )?(?:a )?(?:longitudinal )?"
+            r"acceleration (?:of )?(below|under|less than|above|over|exceeding|greater than|at least|at most)"
+            r" (-?\d+(?:\.\d+)?) ?m/s(?:²|\^2|2)\)"
+        ),
+        lambda m: f"with acceleration {_BOUND[m[1]]} {m[2]} m/s^2",
+    ),
+    # "for which no other vehicle was present ahead within 30 m": with no vehicle ahead
+    (
+        re.compile(
+            r"\b(?:for which|for whom|where|such that|in which) no (?:other )?([\w-]+(?: [\w-]+)?)"
+            r" (?:(?:was|were|is|are) )?(?:present |located |observed |detected |found )?"
+            r"(?=ahead|behind|nearby|in front|to the|on (?:its|their))"
+        ),
+        r"with no \1 ",
+    ),
+    # "the ego vehicle had at least one pedestrian ahead of it", "while a pedestrian was ahead of it"
+    (
+        re.compile(
+            r"\b(?:had|has|have) (?=(?:at least \w+|an?|no|one|\d+) [\w ]+? (?:ahead|behind|in front|nearby"
+            r"|to the (?:left|right)|on (?:its|their) (?:left|right))\b)"
+        ),
+        "with ",
+    ),
+    (
+        re.compile(
+            r"\bwhile ((?:an?|at least \w+|\d+) [\w-]+(?: [\w-]+)?) (?:was|were|is|are)"
+            r" (?:located |positioned )?"
+            r"(?=(?:ahead of|behind|in front of|to the (?:left|right) of) (?:it|them)\b)"
+        ),
+        r"with \1 ",
     ),
     # the span of the whole recording
     (

@@ -47,6 +47,12 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\bour ego vehicle\b"), "the ego vehicle"),
     # "stopped near an intersection, not the parked ones": and not parked
     (re.compile(r",? not the (parked|moving|stopped|stationary) ones\b"), r" and not \1"),
+    # "at a distance of no more than 20 m", "at a separation of 20 m": within it
+    (re.compile(r"\bat (?:a |an )?(?:distance|separation|range|spacing) of (?:no more than |not more than "
+                r"|at most |up to |less than |under |below )?(?=\d+(?:\.\d+)? ?(?:m|metres?|meters?)\b)"),
+     "within "),
+    # "crossing the path in front of a vehicle": crossing in front of it
+    (re.compile(r"\bcrossing (?:the|its) path (?:in front )?of\b"), "crossing in front of"),
     # "orange cones": the cones
     (re.compile(r"\borange (?=(?:traffic |construction )?(?:cones?|barrels?|pylons?)\b)"), ""),
 )  # fmt: skip

@@ -23,7 +23,24 @@ _OWN_STATE = (
     r"|merging|changing|leaving|entering|just|still|already|about)"
 )
 _WE = r"(?:i|we|my (?:car|vehicle)|our (?:car|vehicle))"
+#: The witness alone ("in front of me", "my lane") as the car they were in, "us" and "our".
+_SINGULAR: tuple[tuple[re.Pattern[str], str], ...] = (
+    (
+        re.compile(
+            r"\b(of|to|behind|past|at|toward|towards|from|beside|by|near|than|as|around|alongside|overtook"
+            r"|overtaking|passed|passing|followed|following|approached|approaching|tailing|tailgating|facing"
+            r"|faced) (?:me|myself)\b"
+        ),
+        r"\1 us",
+    ),
+    (re.compile(r"\bnext to mine\b"), "next to ours"),
+    (
+        re.compile(r"\bmy (?=(?:own )?(?:car|vehicle|lane|left|right|side|path|way|front|rear|bumper)\b)"),
+        "our ",
+    ),
+)
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"^(?:for a while|at one point|at some point|earlier (?:today|on)|today|yesterday),? "), ""),
     # "I was stopped at the lights when X": X
     (re.compile(rf"^(?:so |well,? )?{_WE} (?:(?:was|were|had been) {_OWN_STATE}"
                 r"|had (?:just |only just )?\w+ed)\b[^,;]*?,?"
@@ -38,17 +55,32 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^(?:i|we) (?:(?:definitely|clearly|then|also|just) )?(?:saw|noticed|spotted|watched"
                 r"|remember(?:ed)?|recall(?:ed)?|observed|could see|can remember|caught sight of)"
                 r"(?: that| how)? (?=\S)"), ""),
-    (re.compile(r"\b(?:went|go(?:es|ing)?|came|com(?:es|ing)) (?:right )?past\b"), "passed"),
+    (re.compile(r"\b(?:went|go(?:es|ing)?|came|com(?:es|ing)) (?:right )?(?:past|by(?= us\b))"), "passed"),
     (re.compile(r"\bin the middle of the (?:road|street|carriageway)\b"), "on the road"),
     (re.compile(r"\bacross our path\b|\bacross (?:the )?front of us\b"), "in front of us"),
     (re.compile(r"\bon our (left|right)(?:[- ]hand)? side\b"), r"on our \1"),
+    # "a car coming the other way": oncoming
+    (re.compile(r"\b(?:coming|going|driving|heading) the other way"
+                r"(?: (?:from|to) (?:us|our (?:car|vehicle)))?\b"),
+     "travelling in the opposite direction to us"),
+    # what the witness's car did, with no event after it ("I was driving along behind a bus")
+    (re.compile(r"^(?:i|we) (?:was|were) (?=\w+ing\b)"), "the ego vehicle "),
+    (re.compile(r"\b(?:had |has |have )?(?:come|came|comes|coming) to an? (?:complete |full |dead )?"
+                r"(?:stop|halt|standstill)\b"), "stopped"),
+    (re.compile(r"\b(driving|following|walking|travell?ing|going|cycling|moving) along\b"), r"\1"),
+    (re.compile(r"\bturn(?:ed|ing|s)? (?:off )?(?:to|on)(?:to)? (?:its|their|the) (left|right)\b"),
+     r"turning \1"),
 )  # fmt: skip
 
 
 def witness_wording(text: str) -> str:
     """``text`` (lower case) as the event a witness reports, without the scene around it."""
-    if not re.search(rf"\b(?:{_WE}|us|our)\b", text):
+    if not re.search(rf"\b(?:{_WE}|us|our|me|my|mine)\b", text):
         return text
+    if not re.search(r"\b(?:we|us|our)\b", text):
+        # a witness alone: "me", "my" are the car they were in
+        for pattern, replacement in _SINGULAR:
+            text = pattern.sub(replacement, text)
     for pattern, replacement in _REWRITES:
         text = pattern.sub(replacement, text)
     return text
