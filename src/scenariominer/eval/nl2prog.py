@@ -184,6 +184,13 @@ SPLITS: tuple[str, ...] = (
     "fresh72",
     "fresh73",
     "fresh74",
+    "fresh75",
+    "fresh76",
+    "fresh77",
+    "fresh78",
+    "fresh79",
+    "fresh80",
+    "fresh81",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
