@@ -9,7 +9,9 @@ too (``(:Crosswalk)``, ``(:Intersection)``, ``(:DrivableArea)``; two road users 
 ``(:Lane)`` node share a lane). Relationship and property names are the user's own, so they are
 read as words (``CROSSING_IN_FRONT_OF`` -> "crossing in front of", ``FOLLOWS`` -> "following",
 ``is_parked = true`` -> "parked"); the returned node as the target of a relationship takes its
-inverse ("being followed by", "behind"). A query that has alternatives (``OR``), a condition on a
+inverse ("being followed by", "behind"); ``HAS_AHEAD`` names where the other road user is ("with
+a vehicle ahead of it"), and ``WITH v, count(p) AS n WHERE n >= 3`` asks for at least 3 of them
+(``= 3`` is read as at least 3 too). A query that has alternatives (``OR``), a condition on a
 road user other than the returned one, or a part this reading does not know comes back unchanged,
 for the other readers (and the language model) to read.
 """

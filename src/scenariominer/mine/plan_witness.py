@@ -6,8 +6,10 @@ approached the junction,* a truck turned left across our path", "a cyclist came 
 *while we were turning right*". :func:`witness_wording` keeps the event (the road user it is
 about and what it did): the scene before "when", a leading or trailing clause of what "we" were
 doing, and the witness's "I saw" are dropped; "our path" is the ego vehicle's path and "our left
-side" its left. The past
-tense is put in the present by :func:`scenariominer.mine.plan_narrative.present_tense` later.
+side" its left. A witness alone says "in front of me", "my lane": without any "we", "us" or "our"
+in the text, "me" after a preposition or a verb of passing, and "my" before the car's parts or
+lane, are read as "us" and "our" ("show me ..." stays a request). The past tense is put in the
+present by :func:`scenariominer.mine.plan_narrative.present_tense` later.
 """
 
 from __future__ import annotations
