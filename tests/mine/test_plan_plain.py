@@ -111,6 +111,18 @@ def test_a_counting_request_is_read_as_the_search_it_counts(description: str, ca
             ["category='STROLLER'", "near_objects("],
         ),
         ("cars waiting near an intersection, not the parked ones", ["scenario_not(stationary)"]),
+        # the distance after "near X" is the distance to X, not to the ego vehicle
+        (
+            "buses near at least 3 pedestrians within 15 m",
+            ["near_objects(subject, related_1, log_dir, distance_thresh=15, min_objects=3)"],
+        ),
+        (
+            "the ego vehicle near a truck within 20 m",
+            [
+                "related_1 = get_objects_of_category(log_dir, category='TRUCK')\n"
+                "step_1 = near_objects(subject, related_1, log_dir, distance_thresh=20)"
+            ],
+        ),
     ],
 )
 def test_a_request_among_polite_sentences_or_a_count_is_read_in_full(

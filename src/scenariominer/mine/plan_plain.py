@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import re
 
+from scenariominer.mine.plan_nouns import NOUN, NP
+
 __all__ = ["plain_wording"]
 
 _DISTANCE = r"(\d+(?:\.\d+)? ?(?:m|metres?|meters?))\b"
@@ -53,6 +55,12 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
      "within "),
     # "crossing the path in front of a vehicle": crossing in front of it
     (re.compile(r"\bcrossing (?:the|its) path (?:in front )?of\b"), "crossing in front of"),
+    # "near at least 3 pedestrians within 20 m": that many within that distance; "near a bus within
+    # 20 m": within 20 m of it (else "within 20 m" is read as the distance to the ego vehicle)
+    (re.compile(rf"\bnear ((?:at least |more than |over )?\d+ (?:other )?(?:{NOUN}))"
+                rf" within {_DISTANCE}(?! of)"),
+     r"with \1 within \2"),
+    (re.compile(rf"\bnear ({NP}) within {_DISTANCE}(?! of)"), r"within \2 of \1"),
     # "orange cones": the cones
     (re.compile(r"\borange (?=(?:traffic |construction )?(?:cones?|barrels?|pylons?)\b)"), ""),
 )  # fmt: skip
