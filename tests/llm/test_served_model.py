@@ -77,7 +77,7 @@ def test_analyze_and_mine_through_the_served_model(served: ServedModel, tmp_path
     # the default generation: the served model reads the description into a plan (one
     # schema-constrained call); the program is built from it, or written by the model
     calls_before = sum(r.calls for r in usage.report().rows if r.kind == "chat")
-    query = "a runner darting out in front of the ego vehicle"  # the phrase rules do not read its subject
+    query = "a unicyclist darting out in front of the ego vehicle"  # the phrase rules do not read its subject
     request = api.MineRequest(query, store=store, use_bank=False, force=True)
     result = api.mine(request, cfg, usage)
     mined = result.report
