@@ -44,8 +44,8 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
                 r" (?:nearby|close by|around)$)"), "with "),
     # "another vehicle within 3 m of ...": a vehicle (the first words name the subject)
     (re.compile(r"^another (?=\w)"), ""),
-    (re.compile(r"\broad objects?(?: of any (?:kind|type|sort))?\b"), "objects"),
-    (re.compile(r"\bobjects? of any (?:kind|type|sort)\b"), "objects"),
+    (re.compile(r"\b(?:road objects?(?: of any (?:kind|type|sort))?|objects? of any (?:kind|type|sort))\b"),
+     "objects"),
     (re.compile(r"\bour ego vehicle\b"), "the ego vehicle"),
     # "stopped near an intersection, not the parked ones": and not parked
     (re.compile(r",? not the (parked|moving|stopped|stationary) ones\b"), r" and not \1"),

@@ -418,7 +418,6 @@ _REQUEST = re.compile(
     r"^(?:please |so |now |but )?(?:(?:could|can|would|will) you (?:please |kindly |mind |maybe )*)?"
     r"(?:please )?(?:find|show(?: me)?|list|retrieve|get|look for|search for|select|return|pull(?: up)?"
     r"|give me|locate|identify|extract|collect|query|dig up|fetch|bring up|track down|grab|look up|surface"
-    r"|find me"
     r"|(?:i'd|i would|we'd|we would) (?:like|love) to see|i (?:want|need) to see)\b"
 )
 
