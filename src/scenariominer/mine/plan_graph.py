@@ -23,7 +23,17 @@ from dataclasses import dataclass, field
 
 from scenariominer.mine.plan_nouns import CATEGORY_RE
 
-__all__ = ["graph_pattern"]
+__all__ = [
+    "GraphQuery",
+    "Unreadable",
+    "distance_test",
+    "graph_pattern",
+    "node_label",
+    "property_words",
+    "query_words",
+    "relationship_words",
+    "top_level_split",
+]
 
 _QUERY = re.compile(
     r"^\s*match\s+(?P<pattern>.+?)(?:\s+where\s+(?P<where>.+?))?\s+return\s+(?:distinct\s+)?"
@@ -139,12 +149,14 @@ _REL_WORDS = {
 _LOCATED = frozenset({"on", "in", "at", "inside", "within", "located in", "located on", "located at"})
 
 
-class _Unknown(Exception):
+class Unreadable(Exception):
     """A part of the query this reading does not put in words."""
 
 
 @dataclass
-class _Query:
+class GraphQuery:
+    """The road users, places, relationships and tests of one pattern, by variable name."""
+
     labels: dict[str, str] = field(default_factory=dict)  # variable -> label (lower case)
     #: (source, relationship words, stated distance in metres or None, target, negated)
     edges: list[tuple[str, str, str | None, str, bool]] = field(default_factory=list)
@@ -159,7 +171,7 @@ class _Query:
 
 def graph_pattern(description: str) -> str:
     """``description`` as plain words when it is a graph pattern query, else unchanged."""
-    query = _Query()
+    query = GraphQuery()
     # "WITH e, count(p) AS n WHERE n >= 3": at least 3 of p
     counted = _COUNTED.search(description)
     if counted is not None:
@@ -174,17 +186,17 @@ def graph_pattern(description: str) -> str:
     try:
         # a second MATCH is another part of the same pattern
         pattern = re.sub(r"\s+match\s+", ", ", found.group("pattern"), flags=re.IGNORECASE)
-        for path in _top_level_split(pattern, ","):
+        for path in top_level_split(pattern, ","):
             _read_path(path.strip(), query, negated=False)
         if found.group("where"):
-            for test in _top_level_split(found.group("where"), " and "):
+            for test in top_level_split(found.group("where"), " and "):
                 _read_test(test.strip(), query)
-        return _words(query, found.group("ret"))
-    except _Unknown:
+        return query_words(query, found.group("ret"))
+    except Unreadable:
         return description
 
 
-def _top_level_split(text: str, separator: str) -> list[str]:
+def top_level_split(text: str, separator: str) -> list[str]:
     """``text`` split at ``separator`` (case-insensitive) outside brackets and quotes."""
     parts, depth, quote, start, i = [], 0, "", 0, 0
     lowered = text.lower()
@@ -208,21 +220,21 @@ def _top_level_split(text: str, separator: str) -> list[str]:
     return [p for p in parts if p.strip()]
 
 
-def _read_path(path: str, query: _Query, *, negated: bool) -> None:
+def _read_path(path: str, query: GraphQuery, *, negated: bool) -> None:
     """The nodes and relationships of one path ``(a:A)-[:R]->(b:B)...`` into ``query``."""
     node = _NODE.match(path)
     if node is None:
-        raise _Unknown(path)
+        raise Unreadable(path)
     previous, at = _add_node(node, query), node.end()
     while at < len(path):
         rel = _REL.match(path, at)
         if rel is None:
-            raise _Unknown(path[at:])
+            raise Unreadable(path[at:])
         node = _NODE.match(path, rel.end())
         if node is None or not rel.group("type"):
-            raise _Unknown(path[at:])
+            raise Unreadable(path[at:])
         current = _add_node(node, query)
-        words, distance = _relationship(rel.group("type"), rel.group("props"))
+        words, distance = relationship_words(rel.group("type"), rel.group("props"))
         if rel.group("var"):
             query.relationships[rel.group("var")] = len(query.edges)
         if rel.group("left") and not rel.group("right"):
@@ -232,7 +244,7 @@ def _read_path(path: str, query: _Query, *, negated: bool) -> None:
         previous, at = current, node.end()
 
 
-def _add_node(node: re.Match[str], query: _Query) -> str:
+def _add_node(node: re.Match[str], query: GraphQuery) -> str:
     var = node.group("var")
     if not var:
         query.anonymous += 1
@@ -241,9 +253,9 @@ def _add_node(node: re.Match[str], query: _Query) -> str:
     if label:
         query.labels[var] = label.lower().replace("_", "")
     elif var not in query.labels:
-        raise _Unknown(f"node {var} has no label")
+        raise Unreadable(f"node {var} has no label")
     for prop, value in _properties(node.group("props")):
-        query.conditions.append((var, _property_words(prop, "=", value)))
+        query.conditions.append((var, property_words(prop, "=", value)))
     return var
 
 
@@ -252,15 +264,15 @@ def _properties(props: str | None) -> list[tuple[str, str]]:
     if not props:
         return []
     pairs = []
-    for item in _top_level_split(props.strip("{} "), ","):
+    for item in top_level_split(props.strip("{} "), ","):
         key, colon, value = item.partition(":")
         if not colon or not re.fullmatch(_VALUE, value.strip(), re.IGNORECASE):
-            raise _Unknown(item)
+            raise Unreadable(item)
         pairs.append((key.strip().lower(), value.strip().strip("'\"").lower()))
     return pairs
 
 
-def _relationship(kind: str, props: str | None) -> tuple[str, str | None]:
+def relationship_words(kind: str, props: str | None) -> tuple[str, str | None]:
     """A relationship type as words, and the distance in metres its properties state.
 
     ``HAS_AHEAD`` stays "has ahead" (the other road user is ahead of this one); a direction
@@ -276,7 +288,7 @@ def _relationship(kind: str, props: str | None) -> tuple[str, str | None]:
     distance = None
     for key, value in _properties(props):
         if re.search(r"angle|deg|heading|yaw", key):
-            raise _Unknown(f"{key}: {value}")
+            raise Unreadable(f"{key}: {value}")
         if re.fullmatch(_NUMBER, value) and re.search(
             r"dist|max|within|range|radius|(?:^|_)m$|meters|metres", key
         ):
@@ -291,16 +303,16 @@ def _relationship(kind: str, props: str | None) -> tuple[str, str | None]:
             elif re.fullmatch(r"chang(?:es|ing) lanes?(?: to)?|lane change", words):
                 words = f"changing lanes to the {value}"
             else:
-                raise _Unknown(f"{key}: {value}")
+                raise Unreadable(f"{key}: {value}")
         else:
-            raise _Unknown(f"{key}: {value}")
+            raise Unreadable(f"{key}: {value}")
     return words, distance
 
 
-def _read_test(test: str, query: _Query) -> None:
+def _read_test(test: str, query: GraphQuery) -> None:
     """One conjunct of the ``WHERE`` clause into ``query``."""
     if re.search(r"\bor\b|\bxor\b", test, re.IGNORECASE):
-        raise _Unknown("or")
+        raise Unreadable("or")
     negated = False
     while (inner := re.match(r"^not\s*(?P<rest>.+)$|^\((?P<paren>.+)\)$", test, re.IGNORECASE)) is not None:
         if inner.group("rest") is not None:
@@ -318,30 +330,30 @@ def _read_test(test: str, query: _Query) -> None:
         if negated:
             op = {"=": "<>", "==": "<>", "<>": "=", "!=": "="}.get(op, "")
             if not op:
-                raise _Unknown(test)
+                raise Unreadable(test)
         value = cmp.group("value").strip("'\"").lower()
         if cmp.group("var") in query.relationships:
-            _relationship_test(query, cmp.group("var"), cmp.group("prop").lower(), op, value)
+            distance_test(query, cmp.group("var"), cmp.group("prop").lower(), op, value)
             return
-        query.conditions.append((cmp.group("var"), _property_words(cmp.group("prop").lower(), op, value)))
+        query.conditions.append((cmp.group("var"), property_words(cmp.group("prop").lower(), op, value)))
         return
     if (flag := _FLAG.match(test)) is not None:
         value = "false" if negated else "true"
-        query.conditions.append((flag.group("var"), _property_words(flag.group("prop").lower(), "=", value)))
+        query.conditions.append((flag.group("var"), property_words(flag.group("prop").lower(), "=", value)))
         return
-    raise _Unknown(test)
+    raise Unreadable(test)
 
 
-def _relationship_test(query: _Query, var: str, prop: str, op: str, value: str) -> None:
+def distance_test(query: GraphQuery, var: str, prop: str, op: str, value: str) -> None:
     """A distance bound on a relationship variable (``r.distance < 5``) as that relationship's."""
     if not (op in ("<", "<=") and re.fullmatch(_NUMBER, value) and re.search(r"dist|range|(?:^|_)m$", prop)):
-        raise _Unknown(f"{var}.{prop} {op} {value}")
+        raise Unreadable(f"{var}.{prop} {op} {value}")
     index = query.relationships[var]
     source, words, _, target, negated = query.edges[index]
     query.edges[index] = (source, words, value, target, negated)
 
 
-def _property_words(prop: str, op: str, value: str) -> str:
+def property_words(prop: str, op: str, value: str) -> str:
     """A property test as words: ``speed > 10`` -> "moving faster than 10 m/s"."""
     prop = re.sub(r"^(?:is|has)_", "", prop)
     unit = "km/h" if re.search(r"kmh|kph", prop) else "mph" if "mph" in prop else "m/s"
@@ -365,47 +377,66 @@ def _property_words(prop: str, op: str, value: str) -> str:
                 return f"changing lanes to the {value}"
             if re.fullmatch(r"state|status|motion|activity|action", prop):
                 return value.replace("_", " ")
-    raise _Unknown(f"{prop} {op} {value}")
+    raise Unreadable(f"{prop} {op} {value}")
 
 
 def _noun(label: str) -> str:
-    """A road-user label as words ("boxtruck" -> "box truck"); not a road user: :class:`_Unknown`."""
+    """A road-user label as words ("boxtruck" -> "box truck"); not a road user: :class:`Unreadable`."""
     if label in _EGO:
         return "the ego vehicle"
     if label in _MAP:
-        raise _Unknown(f"a map feature is no road user: {label}")
+        raise Unreadable(f"a map feature is no road user: {label}")
     noun = {
         "regularvehicle": "regular vehicle",
         "boxtruck": "box truck",
         "wheeleddevice": "wheeled device",
     }.get(label, label)
-    if re.fullmatch(CATEGORY_RE, noun) is None:
-        raise _Unknown(f"not a road user: {label}")
-    return noun
+    if re.fullmatch(CATEGORY_RE, noun) is not None:
+        return noun
+    # two words run together ("schoolbus", "constructioncone")
+    for at in range(2, len(noun) - 1):
+        if re.fullmatch(CATEGORY_RE, spaced := f"{noun[:at]} {noun[at:]}") is not None:
+            return spaced
+    raise Unreadable(f"not a road user: {label}")
+
+
+def node_label(name: str) -> str | None:
+    """``name`` as a node label when it names a road user, the ego vehicle or a map feature.
+
+    ``"Box_Truck"`` -> ``"boxtruck"``, ``"crosswalk"`` -> ``"crosswalk"``; ``None`` for other words.
+    """
+    label = re.sub(r"[\s_-]+", "", name.lower())
+    if label in _EGO or label in _MAP:
+        return label
+    try:
+        _noun(label)
+    except Unreadable:
+        return None
+    return label
 
 
 def _with_article(noun: str) -> str:
     return noun if noun.startswith("the ") else f"{'an' if noun[0] in 'aeiou' else 'a'} {noun}"
 
 
-def _words(query: _Query, returned: str) -> str:
+def query_words(query: GraphQuery, returned: str) -> str:
     """The phrase of the returned node: its noun, its property tests, its relationships."""
     if returned not in query.labels:
-        raise _Unknown(returned)
+        raise Unreadable(returned)
     phrases = [phrase for var, phrase in query.conditions if var == returned]
     adjectives: dict[str, list[str]] = {}
     for var, phrase in query.conditions:
         if var != returned:
             # another road user's test: a one-word state only ("a parked car")
             if not re.fullmatch(r"moving|stationary|parked|stopped", phrase):
-                raise _Unknown(phrase)
+                raise Unreadable(phrase)
             adjectives.setdefault(var, []).append(phrase)
 
     def other(var: str) -> str:
         label = query.labels[var]
         if label in _MAP:
             if _MAP[label] is None:
-                raise _Unknown("lane")
+                raise Unreadable("lane")
             return str(_MAP[label])
         return _with_article(" ".join([*adjectives.get(var, []), _noun(label)]))
 
@@ -414,13 +445,13 @@ def _words(query: _Query, returned: str) -> str:
         if (source, target) in lane_edges:
             continue
         if returned not in (source, target):
-            raise _Unknown("a relationship between two other nodes")
+            raise Unreadable("a relationship between two other nodes")
         mate = target if source == returned else source
         counted = query.counts.get(mate)
         if counted is not None and query.labels[mate] not in _MAP and query.labels[mate] not in _EGO:
             named = f"at least {counted} {_plural(_noun(query.labels[mate]))}"
         elif counted is not None:
-            raise _Unknown("a count of a map feature or of the ego vehicle")
+            raise Unreadable("a count of a map feature or of the ego vehicle")
         else:
             named = other(mate)
         if counted is not None and words in ("within", "close to"):
@@ -443,12 +474,12 @@ def _edge_phrase(words: str, named: str, label: str, *, outgoing: bool, negated:
     """The phrase of one relationship of the returned node with the road user or place ``named``."""
     if not outgoing:
         if words not in _INVERSE:
-            raise _Unknown(words)
+            raise Unreadable(words)
         return _INVERSE[words].format(named)
     if words.startswith("has "):
         where = _HAS.get(words[4:])
         if where is None:
-            raise _Unknown(words)
+            raise Unreadable(words)
         if negated:
             return f"with no {re.sub(r'^(?:an?|the) ', '', named)} {where}"
         return f"with {named} {where}"
@@ -464,18 +495,18 @@ def _plural(noun: str) -> str:
     return noun + ("es" if noun.endswith(("s", "x", "ch", "sh")) else "s")
 
 
-def _shared_lanes(query: _Query, returned: str) -> tuple[set[tuple[str, str]], list[str]]:
+def _shared_lanes(query: GraphQuery, returned: str) -> tuple[set[tuple[str, str]], list[str]]:
     """The lane nodes that the returned node shares with one other road user.
 
     Returns the (road user, lane) edges of those lane nodes and the other road users; a lane node
-    used otherwise is not read (:class:`_Unknown`).
+    used otherwise is not read (:class:`Unreadable`).
     """
     edges: set[tuple[str, str]] = set()
     mates: list[str] = []
     for lane in sorted(var for var, label in query.labels.items() if label == "lane"):
         users = sorted({s for s, w, _, t, neg in query.edges if t == lane and not neg and w in _LOCATED})
         if returned not in users or len(users) != 2:
-            raise _Unknown("a lane node")
+            raise Unreadable("a lane node")
         edges |= {(user, lane) for user in users}
         mates += [user for user in users if user != returned]
     return edges, mates

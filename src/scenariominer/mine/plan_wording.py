@@ -16,9 +16,11 @@ import re
 from scenariominer.mine.plan_documents import camel_words, document_wording
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
+from scenariominer.mine.plan_formula import spreadsheet_formula
 from scenariominer.mine.plan_graph import graph_pattern
 from scenariominer.mine.plan_instructions import instruction_wording
 from scenariominer.mine.plan_learners import learner_wording
+from scenariominer.mine.plan_logic import logic_rule
 from scenariominer.mine.plan_methods import methods_wording
 from scenariominer.mine.plan_narrative import present_tense
 from scenariominer.mine.plan_news import news_wording
@@ -291,7 +293,9 @@ def normalised_text(description: str) -> str:
     # typing slips put right and CamelCase names split, a parameter block's lines (it needs its
     # line breaks), then the wording of a ticket, a clause or a requirement around the request, a
     # set (its gloss after the closing brace is dropped), a request among other sentences
-    text = corrected_spelling(camel_words(graph_pattern(description)).lower())
+    text = corrected_spelling(
+        camel_words(logic_rule(spreadsheet_formula(graph_pattern(description)))).lower()
+    )
     text = witness_wording(methods_wording(document_wording(" ".join(yaml_block(text).split()))))
     text = request_sentence(set_wording(text))
     text = present_tense(

@@ -1,0 +1,206 @@
+"""A spreadsheet formula over a table of tracked objects, put in the plain words the phrase rules read.
+
+Analysts who live in spreadsheets write a search as the formula they would type over a table with
+one row per tracked object: ``=FILTER(Tracks, Tracks[category]='BUS', Tracks[turn]='left')`` or
+``=COUNTIFS(category, 'PEDESTRIAN', dist_to_ego_m, '<5')``. :func:`spreadsheet_formula` reads the
+tests of such a formula as conditions on one road user:
+
+- ``FILTER(range, test, ...)`` (tests joined by ``AND(...)`` or multiplied, ``(a)*(b)``, as Excel
+  combines them; a text argument such as an if-empty message is skipped), ``COUNTIF``/``COUNTIFS``
+  (range and criterion pairs, a criterion may carry its comparison: ``'<5'``, ``'<>BUS'``),
+  ``UNIQUE``/``ROWS``/``COUNTA``/``SORT`` around them, and ``NOT(test)``; Google Sheets'
+  ``QUERY(range, "select * where ...")`` gives its query text to the reader of filters;
+- a column is named by itself, as ``Table[column]`` or ``Table[@column]``; the category column
+  (``category``, ``class``, ``type``, ...) names the road user; speed and acceleration columns are
+  bounds (their unit from the name, ``speed_kmh``); a distance column names what it is measured to
+  (``dist_to_ego_m < 5``: within 5 m of the ego vehicle); a count column names what it counts and
+  within what distance (``pedestrians_within_20m >= 3``); a flag column (``is_parked = TRUE``,
+  ``in_intersection = 1``) is a state, and ``turn``, ``lane_change``, ``lane_type`` and ``status``
+  columns name the turn, the lane change, the kind of lane and the state.
+
+A formula with alternatives (``OR``, ``+``), cell ranges in place of column names, or a column
+this reading does not know comes back unchanged, for the other readers (and the language model).
+"""
+
+from __future__ import annotations
+
+import re
+
+from scenariominer.mine.plan_graph import (
+    GraphQuery,
+    Unreadable,
+    node_label,
+    property_words,
+    query_words,
+    top_level_split,
+)
+from scenariominer.mine.plan_logic import state_words
+from scenariominer.mine.plan_nouns import singular
+
+__all__ = ["spreadsheet_formula"]
+
+_FORMULA = re.compile(r"^\s*=\s*(?P<body>[A-Za-z]+\s*\(.*\))\s*;?\s*$", re.DOTALL)
+_CALL = re.compile(r"^(?P<name>[A-Za-z][\w.]*)\s*\((?P<args>.*)\)$", re.DOTALL)
+_NUMBER = r"-?\d+(?:\.\d+)?"
+_COLUMN = r"(?:[A-Za-z_]\w*\s*)?\[@?\s*(?P<bracketed>[^\[\]]+?)\s*\]|(?P<bare>[A-Za-z_][\w.]*)"
+_TEST = re.compile(
+    rf"^(?:{_COLUMN})\s*(?P<op><>|>=|<=|=|>|<)\s*(?P<value>'[^']*'|\"[^\"]*\"|{_NUMBER}|true|false)$",
+    re.IGNORECASE,
+)
+#: A criterion of COUNTIF(S): an optional comparison and its value ("<5", "<>BUS", "BUS").
+_CRITERION = re.compile(r"^(?P<op><>|>=|<=|=|>|<)?\s*(?P<value>.*)$", re.DOTALL)
+#: Functions around the one that tests, read as the set they wrap.
+_WRAPPERS = frozenset({"unique", "rows", "counta", "count", "sort", "sortby", "take", "iferror", "index"})
+_CATEGORY_COLUMNS = re.compile(
+    r"^(?:object_|agent_|actor_|track_)?(?:category|class|type|kind|label|cat)(?:_name)?$", re.IGNORECASE
+)
+
+
+def spreadsheet_formula(description: str) -> str:
+    """``description`` as plain words when it is a spreadsheet formula over tracked objects, else as is."""
+    found = _FORMULA.match(description)
+    if found is None:
+        return description
+    sql = re.match(r"^query\s*\(\s*[^,()]+,\s*(?P<q>'[^']*'|\"[^\"]*\")", found.group("body"), re.IGNORECASE)
+    if sql is not None:
+        return _unquoted(sql.group("q"))  # Google Sheets' QUERY: its SQL-like text, for the filter reader
+    query = GraphQuery(labels={})
+    try:
+        for column, op, value in _tests(found.group("body").strip()):
+            _read_test(column, op, value, query)
+        query.labels.setdefault("x", "object")
+        return query_words(query, "x")
+    except Unreadable:
+        return description
+
+
+def _tests(expression: str) -> list[tuple[str, str, str]]:
+    """The (column, comparison, value) tests of a formula; ``NOT`` flips the comparison."""
+    expression = expression.strip()
+    while _wrapped(expression):
+        expression = expression[1:-1].strip()
+    call = _CALL.match(expression)
+    if call is None:
+        if (test := _TEST.match(expression)) is not None:
+            column = test.group("bracketed") or test.group("bare")
+            return [(column.strip().split(".")[-1], test.group("op"), _unquoted(test.group("value")))]
+        products = top_level_split(expression, "*")
+        if len(products) > 1:
+            return [t for part in products for t in _tests(part)]
+        raise Unreadable(expression)
+    name, args = call.group("name").lower(), [a.strip() for a in top_level_split(call.group("args"), ",")]
+    if name in _WRAPPERS:
+        return [t for a in args[:1] for t in _tests(a)]
+    if name == "and":
+        return [t for a in args for t in _tests(a)]
+    if name == "not" and len(args) == 1:
+        flipped = {"=": "<>", "<>": "=", ">": "<=", "<=": ">", "<": ">=", ">=": "<"}
+        return [(column, flipped[op], value) for column, op, value in _tests(args[0])]
+    if name == "filter" and len(args) >= 2:
+        # the first argument is the table; a text argument is a message for no match
+        return [t for a in args[1:] if not re.fullmatch(r"'[^']*'|\"[^\"]*\"", a) for t in _tests(a)]
+    if name in ("countif", "countifs") and len(args) >= 2 and len(args) % 2 == 0:
+        tests = []
+        for column, criterion in zip(args[::2], args[1::2], strict=True):
+            named = re.fullmatch(_COLUMN, column)
+            crit = _CRITERION.match(_unquoted(criterion))
+            if named is None or crit is None or not crit.group("value"):
+                raise Unreadable(f"{column}, {criterion}")
+            column_name = (named.group("bracketed") or named.group("bare")).split(".")[-1]
+            tests.append((column_name, crit.group("op") or "=", crit.group("value").strip()))
+        return tests
+    raise Unreadable(name)
+
+
+def _wrapped(expression: str) -> bool:
+    """Whether one pair of brackets encloses the whole of ``expression`` ("(a)" yes, "(a)*(b)" no)."""
+    depth = 0
+    for at, ch in enumerate(expression):
+        depth += {"(": 1, ")": -1}.get(ch, 0)
+        if depth == 0:
+            return at == len(expression) - 1 and at > 0
+    return False
+
+
+def _unquoted(value: str) -> str:
+    value = value.strip()
+    return value[1:-1] if len(value) > 1 and value[0] == value[-1] and value[0] in "'\"" else value
+
+
+def _read_test(column: str, op: str, value: str, query: GraphQuery) -> None:
+    """One test of a column into ``query`` (the road user found is ``x``)."""
+    key = re.sub(r"[\s()/]+", "_", column.strip().lower()).strip("_")
+    value = value.lower()
+    truth = {"true": True, "1": True, "yes": True, "false": False, "0": False, "no": False}.get(value)
+    if re.fullmatch(r"[a-z]{1,2}\d*(?::[a-z]{1,2}\d*)?", key):
+        raise Unreadable(f"a cell range: {column}")
+    if _CATEGORY_COLUMNS.match(key):
+        label = node_label(value)
+        if label is None or op != "=" or "x" in query.labels:
+            raise Unreadable(f"{column} {op} {value}")
+        query.labels["x"] = label
+        return
+    if (counted := _count_column(key)) is not None:
+        if op not in (">=", ">") or not re.fullmatch(r"\d+", value):
+            raise Unreadable(f"{column} {op} {value}")
+        label, distance = counted
+        var = f"_n{len(query.edges)}"
+        query.labels[var] = label
+        query.counts[var] = int(value) + (1 if op == ">" else 0)
+        query.edges.append(("x", "near", distance, var, False))
+        return
+    if (target := _distance_target(key)) is not None:
+        if op not in ("<", "<=") or not re.fullmatch(_NUMBER, value):
+            raise Unreadable(f"{column} {op} {value}")
+        var = f"_d{len(query.edges)}"
+        query.labels[var] = target
+        query.edges.append(("x", "within", value, var, False))
+        return
+    if truth is not None and op in ("=", "<>"):
+        query.conditions.append(("x", state_words(key, None, negated=truth != (op == "="))))
+        return
+    if re.fullmatch(r"(?:turn|turning|turn_dir(?:ection)?|maneuver|manoeuvre|action)", key) and op == "=":
+        side = re.search(r"\b(left|right)\b", value.replace("_", " "))
+        if side is not None and "lane" in value:
+            query.conditions.append(("x", f"changing lanes to the {side.group(1)}"))
+            return
+        if side is not None:
+            query.conditions.append(("x", f"turning {side.group(1)}"))
+            return
+    if re.fullmatch(r"lane(?:_type|_kind)?", key) and op == "=":
+        query.conditions.append(("x", state_words("lane_type", value, negated=False)))
+        return
+    query.conditions.append(("x", property_words(key, op if op != "<>" else "!=", value)))
+
+
+def _count_column(key: str) -> tuple[str, str | None] | None:
+    """A column counting road users: (their label, the distance it counts within) or ``None``.
+
+    "pedestrians_within_20m" -> ("pedestrian", "20"), "num_peds_nearby" -> ("ped", None).
+    """
+    found = re.fullmatch(
+        r"(?:n|num|number|count|nr)_(?:of_)?(?P<a>[a-z_]+?)(?:_(?:nearby|near|close))?(?:_(?:within|in|lt)_?(?P<d1>\d+)_?m)?"
+        r"|(?P<b>[a-z_]+?)_(?:within|in|lt)_?(?P<d2>\d+)_?m(?:_(?:count|n|num))?"
+        r"|(?P<c>[a-z_]+?)_(?:nearby_)?count(?:_(?:within|in|lt)_?(?P<d3>\d+)_?m)?",
+        key,
+    )
+    if found is None:
+        return None
+    words = found.group("a") or found.group("b") or found.group("c")
+    label = node_label(" ".join(singular(w) for w in words.split("_")))
+    if label is None:
+        return None
+    return label, found.group("d1") or found.group("d2") or found.group("d3")
+
+
+def _distance_target(key: str) -> str | None:
+    """The label a distance column is measured to ("dist_to_ego_m" -> "ego"), else ``None``."""
+    if not re.search(r"(?:^|_)(?:dist|distance|range|gap)(?:_|$)", key):
+        return None
+    words = [
+        w
+        for w in key.split("_")
+        if w
+        not in ("dist", "distance", "range", "gap", "m", "to", "from", "nearest", "closest", "the", "min")
+    ]
+    return node_label(" ".join(singular(w) for w in words)) if words else None

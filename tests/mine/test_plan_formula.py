@@ -1,0 +1,89 @@
+"""Spreadsheet formulas over a table of tracks in the words the phrase tables read (mine/plan_formula.py)."""
+
+from __future__ import annotations
+
+import pytest
+from plan_checks import assert_program_has
+
+from scenariominer.mine.plan_formula import spreadsheet_formula
+
+
+@pytest.mark.parametrize(
+    ("formula", "calls"),
+    [
+        (
+            "=FILTER(Tracks, Tracks[category]='BUS', Tracks[turn]='left')",
+            ["category='BUS'", "turning(subject, log_dir, direction='left')"],
+        ),
+        (
+            "=COUNTIFS(category,'PEDESTRIAN',dist_to_ego_m,'<5')",
+            ["category='PEDESTRIAN'", "category='EGO_VEHICLE'", "distance_thresh=5"],
+        ),
+        (
+            "=FILTER(objects, AND(category='REGULAR_VEHICLE', speed_mps>10))",
+            ["category='REGULAR_VEHICLE'", "has_velocity(subject, log_dir, min_velocity=10.0)"],
+        ),
+        (
+            "=FILTER(data, (data[class]='TRUCK')*(data[is_parked]=TRUE))",
+            ["category='TRUCK'", "stationary(subject, log_dir)"],
+        ),
+        (
+            "=COUNTIFS(Objects[category],'VEHICLE',Objects[lane_change],'right')",
+            ["changing_lanes(subject, log_dir, direction='right')"],
+        ),
+        (
+            "=FILTER(tracks, tracks[category]='PEDESTRIAN', tracks[on_crosswalk]=TRUE)",
+            ["at_pedestrian_crossing("],
+        ),
+        (
+            "=FILTER(A2:K500, category='BOX_TRUCK', in_intersection=1)",
+            ["category='BOX_TRUCK'", "on_intersection("],
+        ),
+        ("=COUNTIF(category, 'STROLLER')", ["category='STROLLER'"]),
+        (
+            "=FILTER(tracks, category='VEHICLE', NOT(is_stationary=TRUE))",
+            ["scenario_not(stationary)(subject"],
+        ),
+        ("=FILTER(tracks, category='VEHICLE', accel_mps2<-2)", ["max_accel=-2"]),
+        (
+            "=ROWS(FILTER(tracks, category='EGO_VEHICLE', pedestrians_within_20m>=3))",
+            ["category='PEDESTRIAN'", "distance_thresh=20, min_objects=3"],
+        ),
+        ("=FILTER(tracks, category='BUS', lane_type='BUS')", ["category='BUS'", "lane_type='BUS'"]),
+        ("=COUNTIFS(type,'BICYCLE',speed_kmh,'>15')", ["category='BICYCLE'", "min_velocity=4.17"]),
+        ("=QUERY(Tracks, 'select * where category = \"BUS\" and speed > 10')", ["min_velocity=10.0"]),
+    ],
+)
+def test_a_formula_is_read_in_full(formula: str, calls: list[str]) -> None:
+    assert_program_has(formula, calls)
+
+
+def test_a_formula_is_put_in_words_about_one_road_user() -> None:
+    assert (
+        spreadsheet_formula("=FILTER(Tracks, Tracks[category]='BUS', Tracks[turn]='left')")
+        == "bus turning left"
+    )
+    assert spreadsheet_formula("=COUNTIFS(category,'PEDESTRIAN',dist_to_ego_m,'<5')") == (
+        "pedestrian within 5 m of the ego vehicle"
+    )
+    # a criterion's comparison sits inside its text; "<>" negates a flag
+    assert spreadsheet_formula("=COUNTIFS(category,'CAR',is_parked,'<>TRUE')") == "car not parked"
+
+
+@pytest.mark.parametrize(
+    "formula",
+    [
+        "=FILTER(data, OR(category='BUS', category='TRUCK'))",  # alternatives
+        "=FILTER(data, (category='BUS')+(category='TRUCK'))",  # alternatives as a sum
+        "=FILTER(A2:K99, C2:C99='BUS')",  # cell ranges, no column names
+        "=FILTER(data, category='BUS', dist_to_ego_m>50)",  # a lower bound on a distance
+        "=SUMPRODUCT(speed, weight)",  # a function this reading does not know
+    ],
+)
+def test_a_formula_this_reading_does_not_know_comes_back_unchanged(formula: str) -> None:
+    assert spreadsheet_formula(formula) == formula
+
+
+def test_text_that_is_no_formula_comes_back_unchanged() -> None:
+    for text in ("buses turning left", "= buses turning left", "speed > 10"):
+        assert spreadsheet_formula(text) == text
