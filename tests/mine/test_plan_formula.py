@@ -52,6 +52,16 @@ from scenariominer.mine.plan_formula import spreadsheet_formula
         ("=FILTER(tracks, category='BUS', lane_type='BUS')", ["category='BUS'", "lane_type='BUS'"]),
         ("=COUNTIFS(type,'BICYCLE',speed_kmh,'>15')", ["category='BICYCLE'", "min_velocity=4.17"]),
         ("=QUERY(Tracks, 'select * where category = \"BUS\" and speed > 10')", ["min_velocity=10.0"]),
+        # a column of flags on its own, a position relative to the ego vehicle with a distance
+        (
+            '=FILTER(tracks, tracks[object_type]="PEDESTRIAN", tracks[on_crosswalk])',
+            ["at_pedestrian_crossing("],
+        ),
+        (
+            '=FILTER(tracks, category="VEHICLE", distance_to_ego<20, relative_position="ahead")',
+            ["direction='forward', within_distance=20"],
+        ),
+        ('=FILTER(tracks, category="VEHICLE", position_rel_ego="left")', ["direction='left'"]),
     ],
 )
 def test_a_formula_is_read_in_full(formula: str, calls: list[str]) -> None:
@@ -68,6 +78,11 @@ def test_a_formula_is_put_in_words_about_one_road_user() -> None:
     )
     # a criterion's comparison sits inside its text; "<>" negates a flag
     assert spreadsheet_formula("=COUNTIFS(category,'CAR',is_parked,'<>TRUE')") == "car not parked"
+    # a flag that another test narrows is said once
+    assert (
+        spreadsheet_formula('=COUNTIFS(category,"BUS",is_turning,TRUE,turn_direction,"left")')
+        == "bus turning left"
+    )
 
 
 @pytest.mark.parametrize(

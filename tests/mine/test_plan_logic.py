@@ -57,6 +57,13 @@ from scenariominer.mine.plan_logic import logic_rule
             "find(E) :- ego(E), count(P, (pedestrian(P), near(E, P, 20)), N), N >= 3.",
             ["near_objects(subject, related_1, log_dir, distance_thresh=20, min_objects=3)"],
         ),
+        # a kind and an action as constants, a distance variable, a relation's other name
+        ("scenario(X) :- object(X, bus), action(X, turn_left).", ["category='BUS'", "direction='left'"]),
+        ("find(X) :- truck(X), turns(X, right).", ["turning(subject, log_dir, direction='right')"]),
+        ("find(X) :- vehicle(X), near(X, Y, D), pedestrian(Y), D < 5.", ["distance_thresh=5"]),
+        ("find(X) :- vehicle(X), within_distance(X, Y, 10), bicycle(Y).", ["distance_thresh=10"]),
+        ("find(X) :- car(X), in_same_lane(X, ego).", ["in_same_lane(subject, related_1, log_dir)"]),
+        ("find(X) :- vehicle(X), in_lane(X, bus_lane).", ["lane_type='BUS'"]),
         (
             "find(E) :- ego(E), aggregate_all(count, (pedestrian(P), near(E, P)), N), N > 1.",
             ["min_objects=2"],

@@ -69,6 +69,7 @@ def spreadsheet_formula(description: str) -> str:
         for column, op, value in _tests(found.group("body").strip()):
             _read_test(column, op, value, query)
         query.labels.setdefault("x", "object")
+        _merge_distances(query)
         return query_words(query, "x")
     except Unreadable:
         return description
@@ -87,6 +88,9 @@ def _tests(expression: str) -> list[tuple[str, str, str]]:
         products = top_level_split(expression, "*")
         if len(products) > 1:
             return [t for part in products for t in _tests(part)]
+        if (flag := re.fullmatch(_COLUMN, expression)) is not None:
+            # a column of flags on its own: its rows that are TRUE ("Tracks[on_crosswalk]")
+            return [((flag.group("bracketed") or flag.group("bare")).split(".")[-1], "=", "true")]
         raise Unreadable(expression)
     name, args = call.group("name").lower(), [a.strip() for a in top_level_split(call.group("args"), ",")]
     if name in _WRAPPERS:
@@ -156,6 +160,12 @@ def _read_test(column: str, op: str, value: str, query: GraphQuery) -> None:
         query.labels[var] = target
         query.edges.append(("x", "within", value, var, False))
         return
+    if (where := _relative_position(key, value)) is not None and op == "=":
+        words, target = where
+        var = f"_p{len(query.edges)}"
+        query.labels[var] = target
+        query.edges.append(("x", words, None, var, False))
+        return
     if truth is not None and op in ("=", "<>"):
         query.conditions.append(("x", state_words(key, None, negated=truth != (op == "="))))
         return
@@ -171,6 +181,53 @@ def _read_test(column: str, op: str, value: str, query: GraphQuery) -> None:
         query.conditions.append(("x", state_words("lane_type", value, negated=False)))
         return
     query.conditions.append(("x", property_words(key, op if op != "<>" else "!=", value)))
+
+
+#: Where a road user is, seen from another, as the phrase before that other one.
+_POSITIONS = {
+    "ahead": "ahead of",
+    "front": "in front of",
+    "in_front": "in front of",
+    "behind": "behind",
+    "rear": "behind",
+    "left": "to the left of",
+    "right": "to the right of",
+}
+
+
+def _relative_position(key: str, value: str) -> tuple[str, str] | None:
+    """A column of where a road user is relative to another (``relative_position = 'ahead'``).
+
+    Returns the relation's words and the other one's label (the ego vehicle unless the column
+    names another), or ``None``.
+    """
+    found = re.fullmatch(
+        r"(?:rel(?:ative)?_)?(?:position|pos|side|location|direction|dir|bearing)"
+        r"(?:_(?:rel|relative|to|from|wrt|vs|of))*(?:_(?P<target>[a-z_]+))?",
+        key,
+    )
+    words = _POSITIONS.get(value.replace(" ", "_").removeprefix("in_").removesuffix("_of"))
+    if found is None or words is None:
+        return None
+    target = node_label(found.group("target") or "ego")
+    return (words, target) if target is not None else None
+
+
+def _merge_distances(query: GraphQuery) -> None:
+    """A distance bound and a position relative to the same road user as one relation.
+
+    "dist_to_ego < 20" and "position_rel_ego = 'ahead'": ahead of the ego vehicle within 20 m.
+    """
+    for index, (_, words, distance, target, _) in enumerate(query.edges):
+        if words != "within" or distance is None:
+            continue
+        for other, (o_source, o_words, o_distance, o_target, o_negated) in enumerate(query.edges):
+            same_one = other != index and query.labels[o_target] == query.labels[target]
+            if same_one and o_distance is None and o_words in _POSITIONS.values() and not o_negated:
+                query.edges[other] = (o_source, o_words, distance, o_target, False)
+                del query.edges[index]
+                query.labels.pop(target)
+                return
 
 
 def _count_column(key: str) -> tuple[str, str | None] | None:

@@ -142,6 +142,7 @@ _REL_WORDS = {
     "same lane": "in the same lane as",
     "same lane as": "in the same lane as",
     "in same lane as": "in the same lane as",
+    "in same lane": "in the same lane as",
     "in lane of": "in the same lane as",
     "crosses in front of": "crossing in front of",
     "is in front of": "in front of",
@@ -424,6 +425,8 @@ def query_words(query: GraphQuery, returned: str) -> str:
     if returned not in query.labels:
         raise Unreadable(returned)
     phrases = [phrase for var, phrase in query.conditions if var == returned]
+    # a test another one narrows says nothing more ("turning" beside "turning left")
+    phrases = [p for p in dict.fromkeys(phrases) if not any(q.startswith(f"{p} ") for q in phrases)]
     adjectives: dict[str, list[str]] = {}
     for var, phrase in query.conditions:
         if var != returned:

@@ -57,7 +57,22 @@ _COMPARISON = re.compile(
 #: A comparison with its sides swapped ("10 > D" is "D < 10").
 _FLIPPED = {">": "<", "<": ">", ">=": "<=", "<=": ">=", "=": "=", "!=": "!="}
 #: Goals that give their first variable a kind by a second, constant argument ("type(X, bus)").
-_KIND_GOALS = frozenset({"category", "type", "class", "kind", "isa", "is_a", "label", "object_type", "cat"})
+_KIND_GOALS = frozenset(
+    {
+        "category",
+        "type",
+        "class",
+        "kind",
+        "isa",
+        "is_a",
+        "is",
+        "label",
+        "object_type",
+        "cat",
+        "has_category",
+        "has_type",
+    }
+)
 #: Goals that only say a variable is some road user or some time ("object(X)", "timestamp(T)").
 _ANY_GOALS = frozenset(
     {"object", "obj", "track", "agent", "actor", "entity", "road_user", "roaduser", "thing"}
@@ -70,6 +85,18 @@ _VALUE_GOALS = re.compile(r"^(?:abs_?)?(?:speed|velocity|vel|accel|acceleration|
 #: Goals that bind the distance between two ("distance(X, Y, D)").
 _DISTANCE_GOALS = re.compile(r"^(?:dist|distance|euclidean_distance|range)(?:_to|_between|_m)?$")
 _COUNT_GOALS = frozenset({"count", "aggregate_all"})
+#: Relation names that mean a phrase the graph wording knows ("within_distance(X, Y, 10)").
+_RELATION_WORDS = {
+    "within distance": "within",
+    "within dist": "within",
+    "within range": "within",
+    "in range of": "within",
+    "distance less than": "within",
+    "nearby": "near",
+    "is near": "near",
+    "crossing": "crossing in front of",
+    "crossing path of": "crossing in front of",
+}
 #: Map features a state goal names without an article ("in_intersection" -> "in an intersection").
 _PLACES = {
     "intersection": "an intersection",
@@ -196,7 +223,7 @@ def _read_goal(goal: str, rule: _Rule, *, negated: bool) -> None:
             raise Unreadable(f"a second kind: {goal}")
         query.labels[args[0]] = label
         return
-    if name in _KIND_GOALS and len(args) == 2:
+    if (name in _KIND_GOALS or name in _ANY_GOALS) and len(args) == 2:
         kind = node_label(args[1])
         if kind is None or negated or not _is_variable(args[0]):
             raise Unreadable(goal)
@@ -218,11 +245,14 @@ def _read_goal(goal: str, rule: _Rule, *, negated: bool) -> None:
         return
     if len(args) in (2, 3):
         distance = None
-        if len(args) == 3:
+        if len(args) == 3 and _is_variable(args[2]) and not negated:
+            query.relationships[args[2]] = len(query.edges)  # "near(X, Y, D), D < 5"
+        elif len(args) == 3:
             if not re.fullmatch(_NUMBER, args[2]):
                 raise Unreadable(goal)
             distance = args[2]
         words, _ = relationship_words(name, None)
+        words = _RELATION_WORDS.get(words, words)
         query.edges.append((_node(args[0], rule), words, distance, _node(args[1], rule), negated))
         return
     raise Unreadable(goal)
@@ -234,8 +264,15 @@ def state_words(name: str, value: str | None, *, negated: bool) -> str:
         words = property_words(name, "=", "false" if negated else "true")
     elif not negated:
         value = value.lower()
+        side = re.search(r"(?:^|_)(left|right)(?:_|$)", value)
         if re.fullmatch(r"(?:on|in|at)?_?lane(?:_type)?|lane_kind", name):
-            words = f"in {_PLACES.get(value.replace('_', ' ') + ' lane', 'a ' + value + ' lane')}"
+            lane = re.sub(r"(?:_lane)?$", " lane", value, count=1).replace("_", " ")
+            words = f"in {_PLACES.get(lane, 'a ' + lane)}"
+        elif side is not None and ("lane" in name or "lane" in value):
+            # "lane_change(X, left)", "action(X, lane_change_left)"
+            words = f"changing lanes to the {side.group(1)}"
+        elif side is not None and ("turn" in name or "turn" in value):
+            words = f"turning {side.group(1)}"  # "turns(X, right)", "action(X, turn_left)"
         elif re.fullmatch(r"on|in|at|inside|located(?:_\w+)?", name) and value.replace("_", " ") in _PLACES:
             words = f"{'in' if 'intersection' in value or 'junction' in value else 'on'} {_PLACES[value]}"
         else:
