@@ -62,6 +62,32 @@ from scenariominer.mine.plan_formula import spreadsheet_formula
             ["direction='forward', within_distance=20"],
         ),
         ('=FILTER(tracks, category="VEHICLE", position_rel_ego="left")', ["direction='left'"]),
+        # a category group, a count of other rows, a lead vehicle's kind, the side of the road
+        ("=FILTER(t, t[category_group]='VULNERABLE_ROAD_USER', t[speed_mps]>=2)", ["'VULNERABLE_ROAD_USER'"]),
+        (
+            "=FILTER(t, t[category_group]='VEHICLE',"
+            " COUNTIFS(t[category], 'PEDESTRIAN', t[position], 'ahead', t[gap_m], '<=15')>=1)",
+            ["has_objects_in_relative_direction(", "direction='forward', within_distance=15"],
+        ),
+        (
+            "=FILTER(t, t[category]='EGO_VEHICLE',"
+            " COUNTIFS(t[category], 'PEDESTRIAN', t[dist_to_ego_m], '<=15')>=3)",
+            ["near_objects(subject, related_1, log_dir, distance_thresh=15, min_objects=3)"],
+        ),
+        (
+            "=FILTER(t, t[category_group]='VEHICLE', t[lead_vehicle_category]='BUS')",
+            ["following(subject, related_1"],
+        ),
+        ("=FILTER(t, t[category]='BUS', t[road_side_vs_ego]='opposite')", ["side='opposite'"]),
+        ("=FILTER(t, t[category]='CAR', ABS(t[lat_accel_mps2])>=2)", ["has_lateral_acceleration(subject"]),
+        ("=FILTER(t, t[category]='CAR', t[long_accel_mps2]<=-1)", ["max_accel=-1"]),
+        ("=FILTER(t, t[category]='PEDESTRIAN', t[dist_to_crosswalk_m]=0)", ["within_distance=0"]),
+        (
+            "=FILTER(t, t[category]='PEDESTRIAN', t[on_road]=TRUE, NOT(t[dist_to_crosswalk_m]<=1))",
+            ["scenario_not(at_pedestrian_crossing)(subject, log_dir, within_distance=1)"],
+        ),
+        ("=FILTER(t, t[category]='CAR', t[same_lane_as_ego]=TRUE)", ["in_same_lane(subject, related_1"]),
+        ("=FILTER(t, t[category]='CAR', t[travel_dir_vs_ego]='opposite')", ["direction='opposite'"]),
     ],
 )
 def test_a_formula_is_read_in_full(formula: str, calls: list[str]) -> None:
@@ -91,7 +117,7 @@ def test_a_formula_is_put_in_words_about_one_road_user() -> None:
         "=FILTER(data, OR(category='BUS', category='TRUCK'))",  # alternatives
         "=FILTER(data, (category='BUS')+(category='TRUCK'))",  # alternatives as a sum
         "=FILTER(A2:K99, C2:C99='BUS')",  # cell ranges, no column names
-        "=FILTER(data, category='BUS', dist_to_ego_m>50)",  # a lower bound on a distance
+        "=FILTER(data, category='BUS', dist_to_ego_m=7)",  # a distance equal to a number
         "=SUMPRODUCT(speed, weight)",  # a function this reading does not know
     ],
 )

@@ -86,9 +86,10 @@ def test_a_pattern_is_put_in_words_about_the_returned_node() -> None:
     assert graph_pattern("MATCH (v:Vehicle)-[:BEHIND {max_distance: 15}]->(e:Ego) RETURN v") == (
         "vehicle behind the ego vehicle within 15 m"
     )
-    # the same relationship, the other node returned: its inverse
+    # the same relationship, the other node returned: its inverse, in the returned node's own frame
     assert (
-        graph_pattern("MATCH (v:Vehicle)-[:BEHIND]->(e:Ego) RETURN e") == "the ego vehicle ahead of a vehicle"
+        graph_pattern("MATCH (v:Vehicle)-[:BEHIND]->(e:Ego) RETURN e")
+        == "the ego vehicle with a vehicle behind it"
     )
     assert graph_pattern("MATCH (p:Pedestrian), (e:Ego) WHERE (p)-[:NEAR {distance_m: 10}]-(e) RETURN p") == (
         "pedestrian within 10 m of the ego vehicle"

@@ -53,6 +53,22 @@ from scenariominer.mine.plan_logic import logic_rule
         ),
         ("hit(X) :- type(X, 'BUS'), parked(X).", ["category='BUS'", "stationary(subject, log_dir)"]),
         ("?- school_bus(X), moving(X).", ["category='SCHOOL_BUS'"]),
+        # a negated kind, a distance to a place, an anonymous variable, a test of its speed
+        (
+            "find(X) :- vehicle(X), \\+ bus(X), lane_type_at(X, bus).",
+            ["category='VEHICLE'", "is_category", "lane_type='BUS'"],
+        ),
+        (
+            "find(X) :- truck(X), distance_to_intersection(X, D), D =< 10.",
+            ["near_intersection(", "threshold=10"],
+        ),
+        ("find(X) :- vehicle(X), changes_lane(X, _Dir).", ["changing_lanes(subject, log_dir)"]),
+        ("match(X, T) :- vehicle(X), speed(X, T, S), S >= 15.", ["min_velocity=15"]),
+        ("m(X, T) :- vehicle(X), longitudinal_accel(X, T, A), A =< -2.", ["max_accel=-2"]),
+        (
+            "find(V) :- vehicle(V), pedestrian(P), in_front_of(P, V), distance(V, P, D), D < 15.",
+            ["has_objects_in_relative_direction(", "direction='forward', within_distance=15"],
+        ),
         (
             "find(E) :- ego(E), count(P, (pedestrian(P), near(E, P, 20)), N), N >= 3.",
             ["near_objects(subject, related_1, log_dir, distance_thresh=20, min_objects=3)"],
@@ -93,7 +109,7 @@ def test_a_rule_is_put_in_words_about_the_road_user_in_its_head() -> None:
         "find(X) :- bus(X) ; truck(X).",  # alternatives
         "find(X) :- bus(X), frobnicated(X, Y, Z, W).",  # a goal of four arguments
         "find(X) :- bus(X), speed(X, S), S > D.",  # a value compared with a variable
-        "find(X) :- bus(X), \\+ truck(X).",  # a negated kind
+        "find(X) :- bus(X), \\+ (truck(X), parked(X)).",  # a negated conjunction
         "find(X) :- bus(X), speed(Y, S), S > 3, car(Y).",  # a test of another road user
     ],
 )

@@ -25,13 +25,16 @@ this reading does not know comes back unchanged, for the other readers (and the 
 from __future__ import annotations
 
 import re
+from typing import NamedTuple
 
 from scenariominer.mine.plan_graph import (
     GraphQuery,
     Unreadable,
+    label_phrase,
     node_label,
     property_words,
     query_words,
+    relationship_words,
     top_level_split,
 )
 from scenariominer.mine.plan_logic import state_words
@@ -47,12 +50,32 @@ _TEST = re.compile(
     rf"^(?:{_COLUMN})\s*(?P<op><>|>=|<=|=|>|<)\s*(?P<value>'[^']*'|\"[^\"]*\"|{_NUMBER}|true|false)$",
     re.IGNORECASE,
 )
+#: The size of a column's value either way ("ABS(Tracks[lat_accel_mps2]) >= 2").
+_ABSOLUTE = re.compile(
+    rf"^abs\s*\(\s*(?:{_COLUMN})\s*\)\s*(?P<op>>=|<=|>|<)\s*(?P<value>{_NUMBER})$", re.IGNORECASE
+)
 #: A criterion of COUNTIF(S): an optional comparison and its value ("<5", "<>BUS", "BUS").
 _CRITERION = re.compile(r"^(?P<op><>|>=|<=|=|>|<)?\s*(?P<value>.*)$", re.DOTALL)
 #: Functions around the one that tests, read as the set they wrap.
 _WRAPPERS = frozenset({"unique", "rows", "counta", "count", "sort", "sortby", "take", "iferror", "index"})
 _CATEGORY_COLUMNS = re.compile(
-    r"^(?:object_|agent_|actor_|track_)?(?:category|class|type|kind|label|cat)(?:_name)?$", re.IGNORECASE
+    r"^(?:object_|agent_|actor_|track_)?(?:category|class|type|kind|label|cat)(?:_name|_group)?$|^group$",
+    re.IGNORECASE,
+)
+
+
+class _Test(NamedTuple):
+    """One test of a formula: a column compared with a value, or a count of other rows (``inner``)."""
+
+    column: str
+    op: str
+    value: str
+    inner: tuple[_Test, ...] = ()
+
+
+#: A count of other rows compared with a number ("COUNTIFS(category, 'PEDESTRIAN', ...) >= 2").
+_COUNTED = re.compile(
+    r"^(?P<call>countifs?\s*\(.*\))\s*(?P<op>>=|>)\s*(?P<n>\d+)$", re.IGNORECASE | re.DOTALL
 )
 
 
@@ -66,31 +89,36 @@ def spreadsheet_formula(description: str) -> str:
         return _unquoted(sql.group("q"))  # Google Sheets' QUERY: its SQL-like text, for the filter reader
     query = GraphQuery(labels={})
     try:
-        for column, op, value in _tests(found.group("body").strip()):
-            _read_test(column, op, value, query)
+        for test in _tests(found.group("body").strip()):
+            _read_test(test, query)
         query.labels.setdefault("x", "object")
-        _merge_distances(query)
         return query_words(query, "x")
     except Unreadable:
         return description
 
 
-def _tests(expression: str) -> list[tuple[str, str, str]]:
-    """The (column, comparison, value) tests of a formula; ``NOT`` flips the comparison."""
+def _tests(expression: str) -> list[_Test]:
+    """The tests of a formula; ``NOT`` flips the comparison."""
     expression = expression.strip()
     while _wrapped(expression):
         expression = expression[1:-1].strip()
+    if (absolute := _ABSOLUTE.match(expression)) is not None:
+        column = absolute.group("bracketed") or absolute.group("bare")
+        value = _unquoted(absolute.group("value"))
+        return [_Test(f"abs_{column.strip().split('.')[-1]}", absolute.group("op"), value)]
+    if (counted := _COUNTED.match(expression)) is not None:
+        return [_Test("", counted.group("op"), counted.group("n"), tuple(_tests(counted.group("call"))))]
     call = _CALL.match(expression)
     if call is None:
         if (test := _TEST.match(expression)) is not None:
             column = test.group("bracketed") or test.group("bare")
-            return [(column.strip().split(".")[-1], test.group("op"), _unquoted(test.group("value")))]
+            return [_Test(column.strip().split(".")[-1], test.group("op"), _unquoted(test.group("value")))]
         products = top_level_split(expression, "*")
         if len(products) > 1:
             return [t for part in products for t in _tests(part)]
         if (flag := re.fullmatch(_COLUMN, expression)) is not None:
             # a column of flags on its own: its rows that are TRUE ("Tracks[on_crosswalk]")
-            return [((flag.group("bracketed") or flag.group("bare")).split(".")[-1], "=", "true")]
+            return [_Test((flag.group("bracketed") or flag.group("bare")).split(".")[-1], "=", "true")]
         raise Unreadable(expression)
     name, args = call.group("name").lower(), [a.strip() for a in top_level_split(call.group("args"), ",")]
     if name in _WRAPPERS:
@@ -99,7 +127,10 @@ def _tests(expression: str) -> list[tuple[str, str, str]]:
         return [t for a in args for t in _tests(a)]
     if name == "not" and len(args) == 1:
         flipped = {"=": "<>", "<>": "=", ">": "<=", "<=": ">", "<": ">=", ">=": "<"}
-        return [(column, flipped[op], value) for column, op, value in _tests(args[0])]
+        tests = _tests(args[0])
+        if any(t.inner for t in tests):
+            raise Unreadable("a negated count")
+        return [t._replace(op=flipped[t.op]) for t in tests]
     if name == "filter" and len(args) >= 2:
         # the first argument is the table; a text argument is a message for no match
         return [t for a in args[1:] if not re.fullmatch(r"'[^']*'|\"[^\"]*\"", a) for t in _tests(a)]
@@ -111,7 +142,7 @@ def _tests(expression: str) -> list[tuple[str, str, str]]:
             if named is None or crit is None or not crit.group("value"):
                 raise Unreadable(f"{column}, {criterion}")
             column_name = (named.group("bracketed") or named.group("bare")).split(".")[-1]
-            tests.append((column_name, crit.group("op") or "=", crit.group("value").strip()))
+            tests.append(_Test(column_name, crit.group("op") or "=", crit.group("value").strip()))
         return tests
     raise Unreadable(name)
 
@@ -131,15 +162,19 @@ def _unquoted(value: str) -> str:
     return value[1:-1] if len(value) > 1 and value[0] == value[-1] and value[0] in "'\"" else value
 
 
-def _read_test(column: str, op: str, value: str, query: GraphQuery) -> None:
+def _read_test(test: _Test, query: GraphQuery) -> None:
     """One test of a column into ``query`` (the road user found is ``x``)."""
+    if test.inner:
+        _read_count(test, query)
+        return
+    column, op = test.column, test.op
     key = re.sub(r"[\s()/]+", "_", column.strip().lower()).strip("_")
-    value = value.lower()
+    value = test.value.lower()
     truth = {"true": True, "1": True, "yes": True, "false": False, "0": False, "no": False}.get(value)
     if re.fullmatch(r"[a-z]{1,2}\d*(?::[a-z]{1,2}\d*)?", key):
         raise Unreadable(f"a cell range: {column}")
     if _CATEGORY_COLUMNS.match(key):
-        label = node_label(value)
+        label = "object" if value in ("any", "all", "*") else node_label(value)
         if label is None or op != "=" or "x" in query.labels:
             raise Unreadable(f"{column} {op} {value}")
         query.labels["x"] = label
@@ -154,17 +189,30 @@ def _read_test(column: str, op: str, value: str, query: GraphQuery) -> None:
         query.edges.append(("x", "near", distance, var, False))
         return
     if (target := _distance_target(key)) is not None:
-        if op not in ("<", "<=") or not re.fullmatch(_NUMBER, value):
-            raise Unreadable(f"{column} {op} {value}")
-        var = f"_d{len(query.edges)}"
-        query.labels[var] = target
-        query.edges.append(("x", "within", value, var, False))
+        _read_distance(target, op, value, query)
+        return
+    if re.fullmatch(r"lane(?:_type|_kind)?", key) and op == "=":
+        query.conditions.append(("x", state_words("lane_type", value, negated=False)))
+        return
+    if (related := _related_column(key, value)) is not None and op == "=":
+        words, label = related
+        var = f"_r{len(query.edges)}"
+        query.labels[var] = label
+        query.edges.append(("x", words, None, var, False))
         return
     if (where := _relative_position(key, value)) is not None and op == "=":
         words, target = where
-        var = f"_p{len(query.edges)}"
+        var = f"_{target}"
         query.labels[var] = target
         query.edges.append(("x", words, None, var, False))
+        return
+    flag_of = re.fullmatch(r"(?:is_)?(?P<rel>[a-z_]+?)_(?P<who>ego|ego_vehicle|av|sdc)", key)
+    if flag_of is not None and truth is not None and op in ("=", "<>"):
+        # "same_lane_as_ego = TRUE": a relation with the ego vehicle
+        words, _ = relationship_words(flag_of.group("rel"), None)
+        var = "_ego"
+        query.labels[var] = "ego"
+        query.edges.append(("x", words, None, var, truth != (op == "=")))
         return
     if truth is not None and op in ("=", "<>"):
         query.conditions.append(("x", state_words(key, None, negated=truth != (op == "="))))
@@ -177,10 +225,103 @@ def _read_test(column: str, op: str, value: str, query: GraphQuery) -> None:
         if side is not None:
             query.conditions.append(("x", f"turning {side.group(1)}"))
             return
-    if re.fullmatch(r"lane(?:_type|_kind)?", key) and op == "=":
-        query.conditions.append(("x", state_words("lane_type", value, negated=False)))
+    query.conditions.append(("x", _measure_words(key, op, value)))
+
+
+def _read_distance(target: str, op: str, value: str, query: GraphQuery) -> None:
+    """A distance column's test: within that many metres of ``target`` (0: on or in a place)."""
+    if op in (">", ">=") and re.fullmatch(_NUMBER, value):
+        # "NOT(dist_to_crosswalk_m <= 1)": not within 1 m of a crosswalk
+        query.conditions.append(("x", f"not within {value} m of {label_phrase(target)}"))
         return
-    query.conditions.append(("x", property_words(key, op if op != "<>" else "!=", value)))
+    var = f"_{target}"  # one node per kind named: a distance and a position to it are one relation
+    query.labels[var] = target
+    if op in ("=", "<=") and value == "0" and target in ("crosswalk", "intersection", "drivablearea"):
+        query.edges.append(("x", "on", None, var, False))  # "dist_to_crosswalk_m = 0": on it
+        return
+    if op not in ("<", "<=") or not re.fullmatch(_NUMBER, value):
+        raise Unreadable(f"distance {op} {value}")
+    query.edges.append(("x", "within", value, var, False))
+
+
+def _measure_words(key: str, op: str, value: str) -> str:
+    """A speed or acceleration column's test in words; an ``abs_`` column either way."""
+    key = re.sub(r"^(?P<abs>abs_)?(?:long|lon|longitudinal|fwd|forward)_", r"\g<abs>", key)
+    lateral = re.fullmatch(r"(?P<abs>abs_)?(?:lat|lateral|side|sideways)_?(?:accel|acceleration|acc)\w*", key)
+    if lateral is not None:
+        if not lateral.group("abs") or op not in (">", ">=") or not re.fullmatch(_NUMBER, value):
+            raise Unreadable(f"{key} {op} {value}")
+        return f"with lateral acceleration above {value} m/s^2"  # the phrase rules: either side
+    return property_words(key, op if op != "<>" else "!=", value)
+
+
+def _read_count(test: _Test, query: GraphQuery) -> None:
+    """``COUNTIFS(category, 'PEDESTRIAN', position, 'ahead', gap_m, '<=15') >= 1``: other road users.
+
+    The counted rows name their kind, where they are from the road user found and how far; one
+    or more of them is a relation with one, more a count.
+    """
+    label, where, distance = None, "near", None
+    for inner in test.inner:
+        key = re.sub(r"[\s()/]+", "_", inner.column.strip().lower()).strip("_")
+        value = inner.value.lower()
+        if _CATEGORY_COLUMNS.match(key) and inner.op == "=" and label is None:
+            label = node_label(value)
+        elif (position := _relative_position(key, value)) is not None and inner.op == "=":
+            where = {"ahead of": "has ahead", "in front of": "has ahead", "behind": "has behind"}.get(
+                position[0], f"has {position[0].removeprefix('to the ').removesuffix(' of')}"
+            )
+        elif re.search(r"(?:^|_)(?:dist|distance|gap|range)(?:_|$)", key) and inner.op in ("<", "<="):
+            distance = inner.value if re.fullmatch(_NUMBER, inner.value) else None
+            if distance is None:
+                raise Unreadable(inner.value)
+        else:
+            raise Unreadable(f"{inner.column} {inner.op} {inner.value}")
+    if label is None:
+        raise Unreadable("a count of rows of no kind")
+    least = int(test.value) + (1 if test.op == ">" else 0)
+    var = f"_n{len(query.edges)}"
+    query.labels[var] = label
+    if least > 1:
+        query.counts[var] = least
+    query.edges.append(("x", where, distance, var, False))
+
+
+#: Columns naming the kind of another road user the row's one relates to, with the relation.
+_KIND = r"_(?:vehicle_|object_|agent_)?(?:category|class|type)"
+_RELATED_COLUMNS = (
+    (re.compile(rf"(?:lead|leader|leading|front|preceding){_KIND}"), "following"),
+    (re.compile(rf"(?:followed_by|follower|following|trailing){_KIND}"), "being followed by"),
+)
+
+
+def _related_column(key: str, value: str) -> tuple[str, str] | None:
+    """A column naming another road user's kind: the relation's words and that kind's label.
+
+    "lead_vehicle_category = 'BUS'": following a bus. Also the side of the road relative to the
+    ego vehicle ("road_side_vs_ego = 'opposite'").
+    """
+    side = re.fullmatch(r"(?:road_)?side(?:_of_road)?(?:_(?:vs|rel|relative|to|wrt|as))*_ego", key)
+    if side is not None and value in ("same", "opposite"):
+        same = value == "same"
+        return ("on the same side of the road as" if same else "on the opposite side of the road from"), "ego"
+    travel = re.fullmatch(
+        r"(?:travel|heading|moving|motion|driving)_?(?:dir|direction)(?:_(?:vs|rel|relative|to|wrt|as))*_ego",
+        key,
+    )
+    if travel is not None and value in ("same", "opposite", "perpendicular"):
+        return relationship_words("travelling", f"{{direction: '{value}'}}")[0], "ego"
+    label = node_label(value)
+    if label is None:
+        return None
+    for pattern, words in _RELATED_COLUMNS:
+        if pattern.fullmatch(key):
+            return words, label
+    # "moving_toward_category = 'PEDESTRIAN'": the relation named before the kind
+    named = re.fullmatch(rf"(?P<rel>[a-z_]+?){_KIND}", key)
+    if named is not None and not _CATEGORY_COLUMNS.match(key):
+        return relationship_words(named.group("rel"), None)[0], label
+    return None
 
 
 #: Where a road user is, seen from another, as the phrase before that other one.
@@ -211,23 +352,6 @@ def _relative_position(key: str, value: str) -> tuple[str, str] | None:
         return None
     target = node_label(found.group("target") or "ego")
     return (words, target) if target is not None else None
-
-
-def _merge_distances(query: GraphQuery) -> None:
-    """A distance bound and a position relative to the same road user as one relation.
-
-    "dist_to_ego < 20" and "position_rel_ego = 'ahead'": ahead of the ego vehicle within 20 m.
-    """
-    for index, (_, words, distance, target, _) in enumerate(query.edges):
-        if words != "within" or distance is None:
-            continue
-        for other, (o_source, o_words, o_distance, o_target, o_negated) in enumerate(query.edges):
-            same_one = other != index and query.labels[o_target] == query.labels[target]
-            if same_one and o_distance is None and o_words in _POSITIONS.values() and not o_negated:
-                query.edges[other] = (o_source, o_words, distance, o_target, False)
-                del query.edges[index]
-                query.labels.pop(target)
-                return
 
 
 def _count_column(key: str) -> tuple[str, str | None] | None:

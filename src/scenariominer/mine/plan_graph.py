@@ -28,6 +28,7 @@ __all__ = [
     "Unreadable",
     "distance_test",
     "graph_pattern",
+    "label_phrase",
     "node_label",
     "property_words",
     "query_words",
@@ -79,6 +80,7 @@ _MAP: dict[str, str | None] = {
 #: Relationship verbs in the third person, as the -ing form ("FOLLOWS" -> "following").
 _VERBS = {
     "follows": "following",
+    "changes": "changing",
     "overtakes": "overtaking",
     "passes": "passing",
     "approaches": "approaching",
@@ -107,11 +109,12 @@ _INVERSE = {
     "close to": "near {}",
     "next to": "near {}",
     "within": "within {}",
-    "ahead of": "behind {}",
-    "in front of": "behind {}",
-    "behind": "ahead of {}",
-    "to the left of": "to the right of {}",
-    "to the right of": "to the left of {}",
+    # "P in front of V", V returned: in V's own frame, so V has P in front of it
+    "ahead of": "with {} ahead of it",
+    "in front of": "with {} in front of it",
+    "behind": "with {} behind it",
+    "to the left of": "with {} to the left of it",
+    "to the right of": "with {} to the right of it",
     "in the same lane as": "in the same lane as {}",
     "crossing in front of": "with {} crossing in front of it",
     "crossing": "being crossed by {}",
@@ -357,9 +360,14 @@ def distance_test(query: GraphQuery, var: str, prop: str, op: str, value: str) -
 def property_words(prop: str, op: str, value: str) -> str:
     """A property test as words: ``speed > 10`` -> "moving faster than 10 m/s"."""
     prop = re.sub(r"^(?:is|has)_", "", prop)
+    prop = re.sub(r"^(?:long|lon|longitudinal|forward|fwd)_(?=acc)", "", prop)  # "longitudinal_accel"
     unit = "km/h" if re.search(r"kmh|kph", prop) else "mph" if "mph" in prop else "m/s"
     number = re.fullmatch(_NUMBER, value) is not None
-    if re.match(r"(?:abs_?)?(?:speed|velocity|vel)\b|(?:speed|velocity)_", prop) and number and op in "<=>":
+    if (
+        re.match(r"(?:abs_?)?(?:speed|velocity|vel)\b|(?:speed|velocity)_", prop)
+        and number
+        and op in ("<", "<=", ">", ">=")
+    ):
         if op in (">", ">="):
             return f"moving faster than {value} {unit}"
         if op in ("<", "<="):
@@ -409,11 +417,22 @@ def node_label(name: str) -> str | None:
     label = re.sub(r"[\s_-]+", "", name.lower())
     if label in _EGO or label in _MAP:
         return label
-    try:
-        _noun(label)
-    except Unreadable:
-        return None
-    return label
+    for candidate in (re.sub(r"[\s_-]+", " ", name.lower()).strip(), label):
+        try:
+            _noun(candidate)
+        except Unreadable:
+            continue
+        return candidate
+    return None
+
+
+def label_phrase(label: str) -> str:
+    """A node label with its article ("crosswalk" -> "a crosswalk", "ego" -> "the ego vehicle")."""
+    if label in _MAP:
+        if _MAP[label] is None:
+            raise Unreadable("lane")
+        return str(_MAP[label])
+    return _with_article(_noun(label))
 
 
 def _with_article(noun: str) -> str:
@@ -424,6 +443,7 @@ def query_words(query: GraphQuery, returned: str) -> str:
     """The phrase of the returned node: its noun, its property tests, its relationships."""
     if returned not in query.labels:
         raise Unreadable(returned)
+    _merge_distances(query)
     phrases = [phrase for var, phrase in query.conditions if var == returned]
     # a test another one narrows says nothing more ("turning" beside "turning left")
     phrases = [p for p in dict.fromkeys(phrases) if not any(q.startswith(f"{p} ") for q in phrases)]
@@ -436,6 +456,8 @@ def query_words(query: GraphQuery, returned: str) -> str:
             adjectives.setdefault(var, []).append(phrase)
 
     def other(var: str) -> str:
+        if var not in query.labels:
+            raise Unreadable(f"{var} is of no kind")
         label = query.labels[var]
         if label in _MAP:
             if _MAP[label] is None:
@@ -471,6 +493,32 @@ def query_words(query: GraphQuery, returned: str) -> str:
         phrases.append(f"not {phrase}" if negated and not words.startswith("has ") else phrase)
     phrases += [f"in the same lane as {other(mate)}" for mate in lane_mates]
     return " ".join([_noun(query.labels[returned]), " and ".join(phrases)]).strip()
+
+
+#: Relationships that say where one road user is from another, which a distance can bound.
+_POSITIONAL = frozenset({"ahead of", "in front of", "behind", "to the left of", "to the right of"})
+
+
+def _merge_distances(query: GraphQuery) -> None:
+    """A distance between two road users and where one is from the other, as one relationship.
+
+    "in_front_of(P, V), distance(V, P, D), D < 15": P in front of V within 15 m.
+    """
+    for index, (source, words, distance, target, negated) in enumerate(query.edges):
+        if words != "within" or distance is None or negated:
+            continue
+        for other, (o_source, o_words, o_distance, o_target, o_negated) in enumerate(query.edges):
+            same_pair = {o_source, o_target} == {source, target}
+            if (
+                other != index
+                and same_pair
+                and o_distance is None
+                and not o_negated
+                and o_words in _POSITIONAL
+            ):
+                query.edges[other] = (o_source, o_words, distance, o_target, False)
+                del query.edges[index]
+                return
 
 
 def _edge_phrase(words: str, named: str, label: str, *, outgoing: bool, negated: bool) -> str:

@@ -34,6 +34,7 @@ from scenariominer.mine.plan_graph import (
     GraphQuery,
     Unreadable,
     distance_test,
+    label_phrase,
     node_label,
     property_words,
     query_words,
@@ -81,10 +82,14 @@ _TIME_GOALS = frozenset({"time", "timestamp", "frame", "t", "at_time", "moment",
 #: Names a variable of time usually has.
 _TIME_NAME = re.compile(r"^(?:T\d*|Ts|Time\w*|Timestamp\w*|Frame\w*|Tick)$")
 #: Goals that bind a measured value of one road user ("speed(X, S)").
-_VALUE_GOALS = re.compile(r"^(?:abs_?)?(?:speed|velocity|vel|accel|acceleration|acc)(?:_\w+)?$")
+_VALUE_GOALS = re.compile(
+    r"^(?:abs_?)?(?:(?:long|lon|longitudinal|forward)_)?(?:speed|velocity|vel|accel|acceleration|acc)(?:_\w+)?$"
+)
 #: Goals that bind the distance between two ("distance(X, Y, D)").
 _DISTANCE_GOALS = re.compile(r"^(?:dist|distance|euclidean_distance|range)(?:_to|_between|_m)?$")
 _COUNT_GOALS = frozenset({"count", "aggregate_all"})
+#: Goals naming the kind of lane a road user is in ("lane_type(X, bus)", "in_lane(X, bike_lane)").
+_LANE_GOAL = re.compile(r"(?:(?:on|in|at)_?)?lane(?:_type|_kind)?(?:_(?:at|of|is))?")
 #: Relation names that mean a phrase the graph wording knows ("within_distance(X, Y, 10)").
 _RELATION_WORDS = {
     "within distance": "within",
@@ -165,7 +170,10 @@ def _arguments(args: str | None, rule: _Rule) -> list[str]:
     if not args:
         return []
     out = [a.strip() for a in top_level_split(args, ",")]
-    return [a.strip("'\"") if a[:1] in "'\"" else a for a in out if a not in rule.time]
+    # time variables and anonymous ones ("_", "_Dir": any value) say nothing of the road user
+    return [
+        a.strip("'\"") if a[:1] in "'\"" else a for a in out if a not in rule.time and not a.startswith("_")
+    ]
 
 
 def _returned(head_args: str | None, goals: list[str], rule: _Rule) -> str:
@@ -218,8 +226,12 @@ def _read_goal(goal: str, rule: _Rule, *, negated: bool) -> None:
         _read_count(found.group("args") or "", rule, negated=negated)
         return
     label = node_label(re.sub(r"^(?:is_an?|isa|is)_", "", name))
+    if len(args) == 1 and label is not None and _is_variable(args[0]) and negated:
+        # "\\+ bus(X)": of any kind but that one
+        query.conditions.append((args[0], f"other than {label_phrase(label)}"))
+        return
     if len(args) == 1 and label is not None and _is_variable(args[0]):
-        if negated or args[0] in query.labels:
+        if args[0] in query.labels:
             raise Unreadable(f"a second kind: {goal}")
         query.labels[args[0]] = label
         return
@@ -231,6 +243,17 @@ def _read_goal(goal: str, rule: _Rule, *, negated: bool) -> None:
         return
     if _VALUE_GOALS.match(name) and len(args) == 2 and _is_variable(args[1]) and not negated:
         rule.values[args[1]] = (args[0], name)
+        return
+    if _LANE_GOAL.fullmatch(name) and len(args) == 2 and not _is_variable(args[1]):
+        query.conditions.append((args[0], state_words(name, args[1], negated=negated)))
+        return
+    to_place = re.fullmatch(r"(?:dist|distance)_(?:to|from)_(?P<place>\w+?)(?:_m)?", name)
+    if to_place is not None and len(args) == 2 and _is_variable(args[1]) and not negated:
+        # "distance_to_intersection(X, D), D =< 10"
+        query.relationships[args[1]] = len(query.edges)
+        query.edges.append(
+            (_node(args[0], rule), "within", None, _node(to_place.group("place"), rule), False)
+        )
         return
     if _DISTANCE_GOALS.match(name) and len(args) == 3 and _is_variable(args[2]) and not negated:
         query.relationships[args[2]] = len(query.edges)
@@ -261,11 +284,14 @@ def _read_goal(goal: str, rule: _Rule, *, negated: bool) -> None:
 def state_words(name: str, value: str | None, *, negated: bool) -> str:
     """One road user's test (a goal, a flag, a column) in words ("in_intersection": "in an intersection")."""
     if value is None:
-        words = property_words(name, "=", "false" if negated else "true")
+        words = relationship_words(re.sub(r"^(?:is|has)_", "", name), None)[
+            0
+        ]  # "changes_lane": "changing lane"
+        words = f"not {words}" if negated else words
     elif not negated:
         value = value.lower()
         side = re.search(r"(?:^|_)(left|right)(?:_|$)", value)
-        if re.fullmatch(r"(?:on|in|at)?_?lane(?:_type)?|lane_kind", name):
+        if _LANE_GOAL.fullmatch(name):
             lane = re.sub(r"(?:_lane)?$", " lane", value, count=1).replace("_", " ")
             words = f"in {_PLACES.get(lane, 'a ' + lane)}"
         elif side is not None and ("lane" in name or "lane" in value):
@@ -279,6 +305,7 @@ def state_words(name: str, value: str | None, *, negated: bool) -> str:
             words = property_words(name, "=", value)
     else:
         raise Unreadable(f"not {name}({value})")
+    words = re.sub(r"\b(?:overlaps|overlapping|located on|located in|within)(?= \w)", "on", words)
     for place, phrase in _PLACES.items():
         words = re.sub(rf"\b(in|on|at|near|inside) {place}\b", rf"\1 {phrase}", words)
     return words

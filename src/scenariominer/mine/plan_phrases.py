@@ -646,7 +646,8 @@ PHRASES: tuple[Phrase, ...] = (
     # "at an intersection": on it or just before it (stopped at the stop line, turning there)
     Phrase(r"at " + _INTERSECTION, "near_intersection"),
     Phrase(_NEAR + " " + _CROSSWALK + " within " + _DIST, "at_pedestrian_crossing", "within_distance={dist}"),
-    Phrase(r"within " + _DIST + " of " + _CROSSWALK, "at_pedestrian_crossing", "within_distance={dist}"),
+    Phrase(r"(?P<neg>not )?within " + _DIST + " of " + _CROSSWALK, "at_pedestrian_crossing",
+           "within_distance={dist}"),
     Phrase(_NEAR + " " + _CROSSWALK, "at_pedestrian_crossing", "within_distance=5"),
     Phrase(r"(?P<neg>away from|not at|not on|not using|without using|outside(?: of)?) " + _CROSSWALK,
             "at_pedestrian_crossing"),
