@@ -31,6 +31,7 @@ from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_sets import set_wording
 from scenariominer.mine.plan_spelling import corrected_spelling
+from scenariominer.mine.plan_telegram import telegram_wording
 from scenariominer.mine.plan_witness import witness_wording
 from scenariominer.mine.plan_yaml import yaml_block
 
@@ -124,6 +125,7 @@ _SEARCH_VERB = re.compile(
     r"|i'd like|we'd like|i'm looking for|we're looking for)"
     r"(?: to (?:find|see|get))?|retrieve|find|show(?: me)?|identify|get|list|search for|look for|give me"
     r"|return|select|extract|locate|pull(?: up)?|which|what|are there|is there|how many|do any|does any"
+    r"|seek|request|(?:i |we )?require"
     r"|collect|count|tally|log|record|(?:1|one) event(?: (?:per|for))?"
     r"|how often (?:do|does|is|are)(?: there)?|(?:when|where) (?:do|does|did|is|are)(?: there)?"
     r"|list every (?:time|moment|instance|case)(?: (?:that|when|where))?)"
@@ -294,7 +296,7 @@ def normalised_text(description: str) -> str:
     # line breaks), then the wording of a ticket, a clause or a requirement around the request, a
     # set (its gloss after the closing brace is dropped), a request among other sentences
     text = corrected_spelling(
-        camel_words(logic_rule(spreadsheet_formula(graph_pattern(description)))).lower()
+        camel_words(logic_rule(spreadsheet_formula(graph_pattern(telegram_wording(description))))).lower()
     )
     text = witness_wording(methods_wording(document_wording(" ".join(yaml_block(text).split()))))
     text = request_sentence(set_wording(text))
