@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 
 from scenariominer.mine.plan_documents import camel_words, document_wording
+from scenariominer.mine.plan_everyday import everyday_wording
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_formula import spreadsheet_formula
@@ -333,6 +334,8 @@ def normalised_text(description: str) -> str:
     text = re.sub(r"\s*(?:<=|≤)\s*", " at most ", text)
     text = re.sub(r"\s*>\s*", " more than ", text)
     text = re.sub(r"\s*<\s*", " less than ", text).strip()
+    # everyday words ("the car we are in", "5 meters every second", "3 meters or closer")
+    text = everyday_wording(text)
     # units in words: "metres a second", "metre per second squared", "miles an hour"
     text = re.sub(r"\b(?:metres?|meters?) (?:a|per) second (?:squared|per second)\b", "m/s^2", text)
     text = re.sub(r"\b(?:metres?|meters?) (?:a|per) second\b", "m/s", text)

@@ -1,0 +1,90 @@
+"""Everyday words for what the phrase tables name technically, put in the tables' form.
+
+People who do not work with driving data describe a scene the way they see it in a video: "the car
+we are in" (the ego vehicle), "3 meters or closer" (within 3 m), "5 meters every second" (5 m/s),
+"hitting the brakes" (braking), "the white stripes where people cross the street" (a crosswalk),
+"looking right at our car" (facing it), "scooting over to the lane on their left" (a lane change
+to the left). :func:`everyday_wording` rewrites such phrases after number words have become digits
+(:func:`scenariominer.mine.plan_wording.normalised_text`), and drops words that only restate or
+place the request ("in the videos", "the whole time" after "never", "just going straight" after
+"not turning"). Each rewrite keeps the meaning; a phrase it does not know is left as written.
+"""
+
+from __future__ import annotations
+
+import re
+
+from scenariominer.mine.plan_nouns import NP
+
+__all__ = ["everyday_wording"]
+
+_N = r"\d+(?:\.\d+)?"
+_METRES = r"(?:m|metres?|meters?)"
+_VERY = r"(?:really |very |super )?"
+
+_REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
+    # the ego vehicle as seen from inside it
+    (re.compile(r"\bthe (?:car|vehicle) (?:that )?(?:we(?:'re| are)|i(?:'m| am))"
+                r" (?:in|riding in|sitting in|driving)\b"), "the ego vehicle"),
+    # where the scene was seen
+    (re.compile(r"\b(?:in|on|from) (?:the |these |those |our |all the )?"
+                r"(?:videos?|movies?|clips?|films?|cameras?)\b"), " "),
+    # "5 meters every second": 5 m/s
+    (re.compile(rf"\b({_N}) ?{_METRES} (?:every|each) second(?: (?:every|each) second)?\b"), r"\1 m/s"),
+    # "3 meters or closer", "50 meters away or closer", "3 m or less": within that distance
+    (re.compile(rf",? ({_N}) ?{_METRES}(?: away)? or (?:closer|nearer|less|under)\b"), r" within \1 m"),
+    (re.compile(rf"\b{_VERY}(?:close|near) (?:to )?(?:them|it|him|her)(?= within {_N} m\b)"), ""),
+    (re.compile(rf"\b{_VERY}close to ({NP}) within ({_N} m)\b"), r"within \2 of \1"),
+    # braking in a driver's words
+    (re.compile(r"\b(?:are |is )?(?:hitting|stepping on|pressing) the brakes? hard\b"), "braking hard"),
+    (re.compile(r"\b(?:are |is )?(?:hitting|stepping on|pressing) the brakes?(?: to slow down)?\b"),
+     "braking"),
+    # "never ever move (the whole time)": never move
+    (re.compile(r"\bnever ever\b"), "never"),
+    (re.compile(r"\b(never (?:move|moving|moves))(?: (?:at all|the whole time|all the time))?\b"), r"\1"),
+    # "stopped and not moving": stopped
+    (re.compile(r"\b(stopped|parked|standing still),? and not moving\b"), r"\1"),
+    # a lane change in plain words
+    (re.compile(r"\b(?:scooting|moving|sliding|switching|going|shifting) over (?:in)?to the lane on"
+                r" (?:their|its|his|her|the) (left|right)(?: side| hand side)?\b"),
+     r"changing lanes to the \1"),
+    # "looking right at our car (with their face pointing at it)": facing it
+    (re.compile(r"\b(?:looking|staring|gazing) (?:right|straight|directly) (?:at|toward|towards)\b"),
+     "facing"),
+    (re.compile(r",? with (?:their|its|his|her) (?:face|front|nose) pointing (?:at|toward|towards)"
+                r" (?:it|them)\b"), ""),
+    # the crosswalk and the intersection as they look
+    (re.compile(r"\b(?:the )?(?:white |zebra )?stripes (?:where|that) (?:you|people|we|they|the ego vehicle)"
+                r" (?:cross|crossing|walk across) the (?:street|road)\b"), "a crosswalk"),
+    (re.compile(r"\b(?:an intersection|a crossroads) where the (?:streets|roads) (?:meet|cross)\b"),
+     "an intersection"),
+    (re.compile(r"\b(intersection|crossroads) where the (?:streets|roads) (?:meet|cross)\b"), r"\1"),
+    # the drivable area in plain words
+    (re.compile(r"\b(?:in )?the places? (?:where )?cars (?:are allowed to|can|may) (?:drive|go)\b"),
+     "in the drivable area"),
+    (re.compile(r"\b(drivable area),? like [\w ]+$"), r"\1"),
+    # restatements
+    (re.compile(r"\b(not turning),? (?:just |only )?(?:going|driving|moving) straight(?: ahead| on)?\b"),
+     r"\1"),
+    (re.compile(r"\b(opposite direction to [\w ]+?),? (?:coming|going|driving) (?:in )?the"
+                r" (?:opposite|other) way\b"), r"\1"),
+    (re.compile(r"^(.* and .*?)(?<!close)(?<!walking)(?<!riding) (?:all )?together$"), r"\1"),
+    (re.compile(r"\band all the\b"), "and"),
+    # "going really fast, faster than 15 m/s": the bound says how fast
+    (re.compile(r"\b(?:going |moving |driving )?(?:really |very |super )*fast,? (?=(?:faster|more) than \d)"),
+     ""),
+    # "when is there a bus ...": the bus
+    (re.compile(r"^there (?:is |are )?(?=an? |\d)"), ""),
+)  # fmt: skip
+
+
+def everyday_wording(text: str) -> str:
+    """``text`` (normalised, number words as digits) with everyday phrases in the tables' form.
+
+    "the car we are in going fast, more than 5 meters every second" -> "the ego vehicle going
+    fast, more than 5 m/s"; "cars that have 3 or more people close to them, 5 meters or closer"
+    -> "cars that have 3 or more people within 5 m".
+    """
+    for pattern, replacement in _REWRITES:
+        text = pattern.sub(replacement, text)
+    return " ".join(text.split())

@@ -1,0 +1,45 @@
+"""Everyday words for what the phrase tables name technically (mine/plan_everyday.py)."""
+
+from __future__ import annotations
+
+import pytest
+from plan_checks import assert_program_has
+
+from scenariominer.mine.plan_everyday import everyday_wording
+
+
+@pytest.mark.parametrize(
+    ("description", "calls"),
+    [
+        (
+            "When is the car we are in going faster than 8 meters every second?",
+            ["'EGO_VEHICLE'", "min_velocity=8"],
+        ),
+        (
+            "Find the vans that have 2 or more people close to them, 4 meters or closer.",
+            ["distance_thresh=4"],
+        ),
+        ("Show me a truck in front of our car, 30 meters away or closer", ["within_distance=30"]),
+        ("Find the cars that are hitting the brakes hard.", ["max_accel=-3"]),
+        ("Find the buses scooting over to the lane on their right side.", ["direction='right'"]),
+        ("Find the dogs looking right at our car.", ["category='DOG'", "facing_toward("]),
+        ("Find people on the white stripes where you cross the street", ["at_pedestrian_crossing("]),
+        ("Find the trucks in the middle of the crossroads where the streets meet", ["on_intersection("]),
+        ("Find the strollers in the places cars are allowed to drive", ["in_drivable_area("]),
+        ("Find the parked vans that never ever move the whole time", ["stationary(subject"]),
+    ],
+)
+def test_an_everyday_description_is_read_in_full(description: str, calls: list[str]) -> None:
+    assert_program_has(description, calls)
+
+
+def test_everyday_phrases_become_the_tables_words() -> None:
+    assert everyday_wording("the car we are in going more than 5 meters every second") == (
+        "the ego vehicle going more than 5 m/s"
+    )
+    assert everyday_wording("people who are really close to a bus 3 meters or less") == (
+        "people who are within 3 m of a bus"
+    )
+    # "walking close together" keeps its meaning: only a list's "together" says nothing
+    assert everyday_wording("pedestrians walking close together") == "pedestrians walking close together"
+    assert everyday_wording("the buses and all the box trucks together") == "the buses and box trucks"
