@@ -21,6 +21,7 @@ __all__ = ["everyday_wording"]
 _N = r"\d+(?:\.\d+)?"
 _METRES = r"(?:m|metres?|meters?)"
 _VERY = r"(?:really |very |super )?"
+_SPEED_UNIT = r"(?:m/s|km/h|mph|metres? per second|meters? per second)"
 
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # the ego vehicle as seen from inside it
@@ -73,6 +74,12 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # "going really fast, faster than 15 m/s": the bound says how fast
     (re.compile(r"\b(?:going |moving |driving )?(?:really |very |super )*fast,? (?=(?:faster|more) than \d)"),
      ""),
+    # "speeding up", "moving at 5 m/s or more": the tables' words
+    (re.compile(r"\b(?:that )?(?:speeds|speeding|speed) up\b"), "accelerating"),
+    (re.compile(rf"\bat ({_N} ?m/s\^2) or (?:more|above|higher|greater)\b"), r"at more than \1"),
+    (re.compile(rf"\b(?:that )?(?:moving|going|driving|travell?ing|move|moves|go|goes)"
+                rf" at ({_N} ?{_SPEED_UNIT}) or (?:more|faster|above|higher)\b"), r"faster than \1"),
+    (re.compile(r"\b(?:in )?either direction\s*$"), ""),
     # "when is there a bus ...": the bus
     (re.compile(r"^there (?:is |are )?(?=an? |\d)"), ""),
 )  # fmt: skip

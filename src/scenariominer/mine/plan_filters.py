@@ -21,7 +21,9 @@ __all__ = ["filter_wording"]
 
 _NUMBER = r"\d+(?:\.\d+)?"
 #: The field that holds a track's category.
-_CATEGORY_FIELD = r"(?:category|class|object_?class|object_?type|obj_?type|type|label|cat)"
+_CATEGORY_FIELD = (
+    r"(?:category|class|(?:object|actor|agent|track)_?(?:class|type|category)|obj_?type|type|label|cat)"
+)
 #: A speed field; a unit in its name ("speed_mps", "v_kmh") is kept.
 _SPEED_FIELD = r"(?:abs_?)?(?:speed|velocity|vel|v)(?:_(?P<field_unit>mps|ms|m_s|kmh|kph|mph))?"
 _SPEED_UNIT = r"(?P<unit>m/s|mps|km/h|kmh|kph|mph)"

@@ -662,7 +662,8 @@ PHRASES: tuple[Phrase, ...] = (
     Phrase(r"(?:at|near|approaching) (?:a |the )?stop signs?", "at_stop_sign"),
     Phrase(r"(?P<neg>off (?:the |a )?(?:road|street)|not on (?:the |a )?(?:road|street))", "on_road"),
     Phrase(
-        r"(?P<neg>outside|off|not (?:on|in)) the drivable (?:area|surface|space|region)", "in_drivable_area"
+        r"(?P<neg>outside|off|not (?:on|in|inside|within)) the drivable (?:area|surface|space|region)",
+        "in_drivable_area",
     ),
     Phrase(
         r"(?:(?:placed|located|sitting|lying|left|standing|positioned|situated) )?(?:on|in|within|inside)"

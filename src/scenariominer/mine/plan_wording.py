@@ -32,6 +32,7 @@ from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_sets import set_wording
 from scenariominer.mine.plan_spelling import corrected_spelling
+from scenariominer.mine.plan_steps import procedure_wording
 from scenariominer.mine.plan_telegram import telegram_wording
 from scenariominer.mine.plan_witness import witness_wording
 from scenariominer.mine.plan_yaml import yaml_block
@@ -296,8 +297,11 @@ def normalised_text(description: str) -> str:
     # typing slips put right and CamelCase names split, a parameter block's lines (it needs its
     # line breaks), then the wording of a ticket, a clause or a requirement around the request, a
     # set (its gloss after the closing brace is dropped), a request among other sentences
+    description = re.sub(r"(?<=/s) ?²", "^2", description)  # "m/s²": the "m/s^2" the tables read
     text = corrected_spelling(
-        camel_words(logic_rule(spreadsheet_formula(graph_pattern(telegram_wording(description))))).lower()
+        camel_words(
+            logic_rule(spreadsheet_formula(graph_pattern(telegram_wording(procedure_wording(description)))))
+        ).lower()
     )
     text = witness_wording(methods_wording(document_wording(" ".join(yaml_block(text).split()))))
     text = request_sentence(set_wording(text))
