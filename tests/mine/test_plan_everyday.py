@@ -27,6 +27,10 @@ from scenariominer.mine.plan_everyday import everyday_wording
         ("Find the trucks in the middle of the crossroads where the streets meet", ["on_intersection("]),
         ("Find the strollers in the places cars are allowed to drive", ["in_drivable_area("]),
         ("Find the parked vans that never ever move the whole time", ["stationary(subject"]),
+        # a dashboard panel's note on what it plots says nothing of what to find
+        ("Buses in a bus lane (count over time)", ["lane_type='BUS'"]),
+        ("Trucks heading toward a pedestrian (15 m radius) – events per hour", ["heading_toward("]),
+        ("Left-turning vans: count per minute", ["direction='left'"]),
     ],
 )
 def test_an_everyday_description_is_read_in_full(description: str, calls: list[str]) -> None:
@@ -43,3 +47,21 @@ def test_everyday_phrases_become_the_tables_words() -> None:
     # "walking close together" keeps its meaning: only a list's "together" says nothing
     assert everyday_wording("pedestrians walking close together") == "pedestrians walking close together"
     assert everyday_wording("the buses and all the box trucks together") == "the buses and box trucks"
+    # a speed in miles or kilometres per hour is no chart's rate
+    assert (
+        everyday_wording("cars going over 15 kilometers per hour") == "cars going over 15 kilometers per hour"
+    )
+
+
+@pytest.mark.parametrize(
+    ("headline", "calls"),
+    [
+        ("Box Truck Tops 7 Meters per Second", ["category='BOX_TRUCK'", "min_velocity=7"]),
+        ("Bus Slams Brakes at Intersection", ["max_accel=-3"]),
+        ("Van Sits Parked for Entire Drive", ["stationary(subject"]),
+        ("Bus Cuts Across Another Vehicle's Path", ["reverse_relationship(being_crossed_by)"]),
+        ("Truck Finds 2 Pedestrians Within 12 Meters Ahead", ["within_distance=12", "min_number=2"]),
+    ],
+)
+def test_a_headline_is_read_in_full(headline: str, calls: list[str]) -> None:
+    assert_program_has(headline, calls)

@@ -21,6 +21,14 @@ __all__ = ["everyday_wording"]
 _N = r"\d+(?:\.\d+)?"
 _METRES = r"(?:m|metres?|meters?)"
 _VERY = r"(?:really |very |super )?"
+#: What a dashboard panel does with the objects found (a count, a rate, a map).
+_CHART = (
+    r"(?:(?:speed |time |density )?heat ?maps?|(?:hourly |daily |weekly )?counts?"
+    r"(?: (?:per|by|over) (?:minute|hour|day|week|log|time))?"
+    r"|(?:events?|violations?|minutes|seconds|occurrences|incidents|frames)"
+    r" (?:per|by) (?:minute|hour|day|week|log)"
+    r"|timeline|trend|histogram|distribution|share(?: in %| %)?|percent(?:age)?|over time)"
+)
 _SPEED_UNIT = r"(?:m/s|km/h|mph|metres? per second|meters? per second)"
 
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
@@ -80,6 +88,10 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(rf"\b(?:that )?(?:moving|going|driving|travell?ing|move|moves|go|goes)"
                 rf" at ({_N} ?{_SPEED_UNIT}) or (?:more|faster|above|higher)\b"), r"faster than \1"),
     (re.compile(r"\b(?:in )?either direction\s*$"), ""),
+    # a chart's note on what it plots ("- events per day", "[count per log]", "heat map")
+    (re.compile(rf"(?:\s*[-–—:,]?\s*\[?{_CHART}\]?)+\s*$"), ""),
+    # "(20 m radius)": within 20 m
+    (re.compile(rf"\b({_N} ?m) radius\b"), r"within \1"),
     # "when is there a bus ...": the bus
     (re.compile(r"^there (?:is |are )?(?=an? |\d)"), ""),
 )  # fmt: skip

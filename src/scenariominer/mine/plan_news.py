@@ -28,6 +28,34 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:a |an )?big rig'?s cab(?: with no trailer(?: attached)?)?\b"), "a truck cab"),
     (re.compile(r"\btraffic of (?:every|any|all) (?:kinds?|sorts?|types?)\b"), "vehicles"),
     (re.compile(r"\bcross traffic\b"), "traffic"),
+    # a headline's verbs
+    (re.compile(r"\bslams? (?:on )?(?:the |its |their )?brakes\b,?(?= decelerating)"), ""),
+    (re.compile(r"\bslams? (?:on )?(?:the |its |their )?brakes\b"), "braking hard"),
+    (
+        re.compile(
+            r"\bsits? parked for (?:the |an? )?(?:entire|whole) (?:drive|log|trip|clip|ride|recording)\b"
+        ),
+        "parked",
+    ),
+    (
+        re.compile(
+            r"\b(?:tops|speeds past|breaks) (?=\d+(?:\.\d+)? ?(?:m/s(?![\^²2])|km/h|kph|mph"
+            r"|(?:metres?|meters?|kilometres?|kilometers?|miles?) (?:per|an|a) (?:second|hour)(?! squared)))"
+        ),
+        "faster than ",
+    ),
+    (re.compile(r"\bhalts\b"), "stopped"),
+    (re.compile(r"\bcomes to (?:a )?(?:full |complete )?stop\b"), "stopped"),
+    (
+        re.compile(r"\bcuts across (?:the path of |(?P<who>[\w ]+?)'s path\b)"),
+        r"crossing in front of \g<who>",
+    ),
+    (
+        re.compile(
+            r"\b(?:finds|spots|sees|has) (\d+ [\w ]+?) within (\d+(?:\.\d+)? ?(?:m|meters|metres)) ahead\b"
+        ),
+        r"with \1 ahead within \2",
+    ),
     # manoeuvres
     (re.compile(r"\bswing(?:s|ing)? (?:into|through) (?:a|an) (left|right)[- ]turn\b"), r"turning \1"),
     (re.compile(r"\bswing(?:s|ing)? (left|right)\b(?!.*\b(?:sideways|lateral) acceleration)"), r"turning \1"),
