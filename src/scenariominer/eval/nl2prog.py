@@ -191,6 +191,13 @@ SPLITS: tuple[str, ...] = (
     "fresh79",
     "fresh80",
     "fresh81",
+    "fresh82",
+    "fresh83",
+    "fresh84",
+    "fresh85",
+    "fresh86",
+    "fresh87",
+    "fresh88",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
