@@ -41,7 +41,8 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # "5 meters every second": 5 m/s
     (re.compile(rf"\b({_N}) ?{_METRES} (?:every|each) second(?: (?:every|each) second)?\b"), r"\1 m/s"),
     # "3 meters or closer", "50 meters away or closer", "3 m or less": within that distance
-    (re.compile(rf",? ({_N}) ?{_METRES}(?: away)? or (?:closer|nearer|less|under)\b"), r" within \1 m"),
+    (re.compile(rf"(?<!\bof)(?<!\bat),? ({_N}) ?{_METRES}(?: away)? or (?:closer|nearer|less|under)\b"),
+     r" within \1 m"),
     (re.compile(rf"\b{_VERY}(?:close|near) (?:to )?(?:them|it|him|her)(?= within {_N} m\b)"), ""),
     (re.compile(rf"\b{_VERY}close to ({NP}) within ({_N} m)\b"), r"within \2 of \1"),
     # braking in a driver's words
