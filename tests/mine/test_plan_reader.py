@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import numpy as np
@@ -915,3 +916,20 @@ def test_mine_says_plainly_when_nothing_matches_and_no_model_was_asked(
     assert "no match of 'person in a wheelchair' in 1 log(s)" in result.output
     assert "no model call" in result.output and "attempt(s)" not in result.output
     assert "┏" not in result.output  # no empty table
+
+
+def test_a_rule_that_fails_leaves_the_description_unread_and_says_why(
+    monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+) -> None:
+    # a reader's bug on an odd text (session 28: a KeyError on "changes_lane(X, _Dir)") failed the
+    # whole request; now the description is left unread, for the rewording and the model
+    import scenariominer.mine.plan_reader as plan_reader
+
+    def broken(description: str) -> None:
+        raise KeyError("_Dir")
+
+    monkeypatch.setattr(plan_reader, "_leading_subject", broken)
+    with caplog.at_level(logging.WARNING, logger="scenariominer.mine.plan_reader"):
+        assert read_plan("buses turning left") is None
+        assert read_plan("buses turning left", partial=True) is None
+    assert "KeyError" in caplog.text and "buses turning left" in caplog.text

@@ -26,6 +26,7 @@ Units are converted (km/h, mph, "meters per second" to m/s).
 
 from __future__ import annotations
 
+import logging
 import re
 from dataclasses import dataclass, field
 from typing import Any
@@ -413,8 +414,15 @@ def _keep_unread_road_users(reading: _Reading, rest: str) -> None:
         reading.assumed.append(f"near {words}")
 
 
+_LOG = logging.getLogger(__name__)
+
+
 def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | None:
     """The plan of ``description`` when every word of it is one of the known phrases, else ``None``.
+
+    A reader that fails on an odd text (a bug in a rule, not a refusal) is logged and the
+    description is left unread, so the rewording and the model's own plan take over: a request
+    never fails because a phrase rule did.
 
     The plan has the fields of :func:`scenariominer.mine.plan.plan_model` plus ``read_by =
     "rules"``; a category may be a list (the union of several, "buses"), and a related object may
@@ -429,6 +437,15 @@ def read_plan(description: str, *, partial: bool = False) -> dict[str, Any] | No
             (:func:`_keep_unread_road_users`; listed under ``assumed``). A left-out negation or a
             relative clause after another road user ("... who is ...") makes it return ``None``.
     """
+    try:
+        return _read(description, partial=partial)
+    except Exception as exc:  # noqa: BLE001 - any failure of a rule leaves the text to the model
+        _LOG.warning("the phrase rules failed on %r: %s: %s", description[:120], type(exc).__name__, exc)
+        return None
+
+
+def _read(description: str, *, partial: bool) -> dict[str, Any] | None:
+    """:func:`read_plan` without its guard."""
     group, subject, text = _leading_subject(description)
     skipped: list[str] = []
     if subject is None and partial and group is None:
