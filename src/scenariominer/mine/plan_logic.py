@@ -100,6 +100,9 @@ _RELATION_WORDS = {
     "nearby": "near",
     "is near": "near",
     "crossing": "crossing in front of",
+    "crossing in front": "crossing in front of",
+    "ahead": "ahead of",
+    "in front": "in front of",
     "crossing path of": "crossing in front of",
 }
 #: Map features a state goal names without an article ("in_intersection" -> "in an intersection").

@@ -28,6 +28,7 @@ from scenariominer.mine.plan_news import news_wording
 from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
 from scenariominer.mine.plan_plain import plain_wording
+from scenariominer.mine.plan_quantifiers import quantified_set
 from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_sets import set_wording
@@ -300,7 +301,11 @@ def normalised_text(description: str) -> str:
     description = re.sub(r"(?<=/s) ?²", "^2", description)  # "m/s²": the "m/s^2" the tables read
     text = corrected_spelling(
         camel_words(
-            logic_rule(spreadsheet_formula(graph_pattern(telegram_wording(procedure_wording(description)))))
+            logic_rule(
+                quantified_set(
+                    spreadsheet_formula(graph_pattern(telegram_wording(procedure_wording(description))))
+                )
+            )
         ).lower()
     )
     text = witness_wording(methods_wording(document_wording(" ".join(yaml_block(text).split()))))
