@@ -198,6 +198,9 @@ SPLITS: tuple[str, ...] = (
     "fresh86",
     "fresh87",
     "fresh88",
+    "fresh89",
+    "fresh90",
+    "fresh91",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
