@@ -65,3 +65,21 @@ def test_everyday_phrases_become_the_tables_words() -> None:
 )
 def test_a_headline_is_read_in_full(headline: str, calls: list[str]) -> None:
     assert_program_has(headline, calls)
+
+
+@pytest.mark.parametrize(
+    ("definition", "calls"),
+    [
+        (
+            "'Cone-Adjacent Truck' means any truck that is within four (4) metres of a construction cone.",
+            ["category='TRUCK'", "distance_thresh=4"],
+        ),
+        (
+            "'Fast Vehicle' means any motor vehicle travelling at a speed of not less than"
+            " twelve (12) metres per second.",
+            ["category='VEHICLE'", "min_velocity=12"],
+        ),
+    ],
+)
+def test_a_defined_term_is_read_as_what_it_means(definition: str, calls: list[str]) -> None:
+    assert_program_has(definition, calls)

@@ -29,9 +29,20 @@ _CHART = (
     r" (?:per|by) (?:minute|hour|day|week|log)"
     r"|timeline|trend|histogram|distribution|share(?: in %| %)?|percent(?:age)?|over time)"
 )
+#: A defined term and the words before what it means ("'Crowded Vehicle' means any").
+_DEFINED = r"'[^']+'\s+(?:means|shall mean|refers to|denotes|is defined as)\s+(?:any|each|every|all|an?)"
 _SPEED_UNIT = r"(?:m/s|km/h|mph|metres? per second|meters? per second)"
 
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
+    # a defined term ("'crowded vehicle' means any motor vehicle ..."): what it means
+    (re.compile(rf"^{_DEFINED}\s+(?:instance|occasion|event|case|situation|moment|time)s?"
+                r"\s+(?:in which|where|when|at which)\s+(?:an?|the|any)\s+"), ""),
+    (re.compile(rf"^{_DEFINED}\s+"), ""),
+    (re.compile(r"\bmotor vehicles?\b"), "vehicle"),
+    (re.compile(r"\bnot (?:exceeding|more than|greater than|in excess of)\b"), "at most"),
+    (re.compile(r"\bnot (?:less|fewer) than\b"), "at least"),
+    (re.compile(r"\bat a (?:rate|speed|magnitude) (?:exceeding|of more than)\b"), "more than"),
+    (re.compile(r"\bat a (?:rate|speed|magnitude) of (?=at least|at most|more than|less than)"), ""),
     # the ego vehicle as seen from inside it
     (re.compile(r"\bthe (?:car|vehicle) (?:that )?(?:we(?:'re| are)|i(?:'m| am))"
                 r" (?:in|riding in|sitting in|driving)\b"), "the ego vehicle"),

@@ -22,6 +22,9 @@ _DISTANCE = r"(\d+(?:\.\d+)? ?(?:m|metres?|meters?))\b"
 _MANOEUVRE = r"(?:accelerating|decelerating|braking|changing|turning|stopping|speeding|slowing|swerving)"
 
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
+    # a contract's number twice, in words and in figures ("five (5) metres", now "5 5 metres")
+    (re.compile(r"\b(\d+)(?:\.0+)? \1(?:\.0+)?(?= ?(?:m|metres?|meters?|m/s|m/s\^2|km/h|mph|seconds?|s"
+                r"|degrees?|deg|pedestrians?|vehicles?|cars?|objects?)\b)"), r"\1"),
     # "inside twenty metres" (the number word became a digit after the learners' rewrite ran)
     (re.compile(r"\binside (?=\d)"), "within "),
     # "with a gap of 20 m (or less)": within 20 m; "a gap of at least 20 m" stays unread
