@@ -34,6 +34,9 @@ _COMPARE = re.compile(
 _CALL = re.compile(r"^(?P<name>[A-Za-z_]\w*)\s*\((?P<args>.*)\)$", re.DOTALL)
 #: "cat(x) ∈ VulnerableRoadUser", "pos(v) ∉ DrivableArea": a kind, or a place it is (not) in.
 _MEMBER = re.compile(r"^(?P<lhs>\w+\(\w+\))\s*(?P<op>∈|∉)\s*(?P<set>\w+)$")
+#: Functions naming a road user's kind ("cat(x)") and where it is ("pos(x)").
+_KIND_FUNCTIONS = ("cat", "category", "class", "type", "kind")
+_WHERE_FUNCTIONS = ("pos", "position", "loc", "location", "centre", "center")
 _OPS = {"≤": "=<", "<=": "=<", "≥": ">=", ">=": ">=", "<": "<", ">": ">", "=": "=:="}
 
 
@@ -77,7 +80,7 @@ def _variable(name: str) -> str:
 
 def _argument(arg: str) -> str:
     """A term as an argument of a goal: a variable in capitals; ``pos(p)`` is ``p``."""
-    arg = re.sub(r"^(?:pos|position|loc|location|centre|center)\((\w+)\)$", r"\1", arg.strip())
+    arg = re.sub(rf"^(?:{'|'.join(_WHERE_FUNCTIONS)})\((\w+)\)$", r"\1", arg.strip())
     if re.fullmatch(r"\w+", arg) is None:
         raise _Unknown(arg)
     if arg.lower() == "ego":
@@ -141,14 +144,11 @@ def _membership(member: re.Match[str], state: _State) -> None:
     if call is None:
         raise _Unknown(member.group(0))
     arg = _argument(call["args"])
-    if call["name"].lower() in ("cat", "category", "class", "type", "kind") and member["op"] == "∈":
+    if call["name"].lower() in _KIND_FUNCTIONS and member["op"] == "∈":
         state.goals.append(f"category({arg}, {_snake(member['set'])})")
         return
     place = node_label(_snake(member["set"]))
-    if (
-        call["name"].lower() in ("pos", "position", "loc", "location", "centre", "center")
-        and place is not None
-    ):
+    if call["name"].lower() in _WHERE_FUNCTIONS and place is not None:
         negation = "" if member["op"] == "∈" else "\\+ "
         state.goals.append(f"{negation}in_{_snake(member['set'])}({arg})")
         return
@@ -171,7 +171,7 @@ def _comparison(cmp: re.Match[str], state: _State) -> None:
         raise _Unknown(lhs)
     name = call["name"].lower()
     args = [_argument(a) for a in top_level_split(call["args"], ",")]
-    if name in ("cat", "category", "class", "type", "kind") and op == "=" and len(args) == 1:
+    if name in _KIND_FUNCTIONS and op == "=" and len(args) == 1:
         state.goals.append(f"category({args[0]}, {rhs.lower()})")
         return
     if re.fullmatch(_NUMBER, rhs) is None:
