@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import re
 
-from scenariominer.mine.plan_nouns import NP
+from scenariominer.mine.plan_nouns import CATEGORY_RE, NP
 
 __all__ = ["everyday_wording"]
 
@@ -32,6 +32,8 @@ _CHART = (
 #: A defined term and the words before what it means ("'Crowded Vehicle' means any").
 _DEFINED = r"'[^']+'\s+(?:means|shall mean|refers to|denotes|is defined as)\s+(?:any|each|every|all|an?)"
 _SPEED_UNIT = r"(?:m/s|km/h|mph|metres? per second|meters? per second)"
+#: A state a road user is found in ("parked", "stopped").
+_STATE = r"(?:stopped|parked|stationary|moving|stopping|turning)"
 
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     # a defined term ("'crowded vehicle' means any motor vehicle ..."): what it means
@@ -95,10 +97,32 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:going |moving |driving )?(?:really |very |super )*fast,? (?=(?:faster|more) than \d)"),
      ""),
     # "speeding up", "moving at 5 m/s or more": the tables' words
-    (re.compile(r"\b(?:that )?(?:speeds|speeding|speed) up\b"), "accelerating"),
+    (re.compile(r"\b(?:that )?(?:speeds|speeding|speed) up\b|\bpicking up speed\b"), "accelerating"),
+    (re.compile(rf"\baccelerating (?:quickly|hard|fast|rapidly),? "
+                rf"(?=(?:more than|at least|over) {_N} ?m/s\^2)"),
+     "accelerating "),
+    (re.compile(rf"\b((?:more than|at least|over) {_N} ?m/s\^2) of acceleration\b"), r"\1"),
+    # "swerving, more than 2 m/s^2 sideways": a lateral acceleration
+    (re.compile(rf",? ((?:more than|at least|over) {_N} ?m/s\^2) "
+                r"(?:sideways|laterally|lateral|side to side)\b"),
+     r" with a lateral acceleration of \1"),
+    (re.compile(r"\b(changing lanes?|lane change) to (?:their|its|his|her) (left|right)\b"), r"\1 to the \2"),
     (re.compile(rf"\bat ({_N} ?m/s\^2) or (?:more|above|higher|greater)\b"), r"at more than \1"),
     (re.compile(rf"\b(?:that )?(?:moving|going|driving|travell?ing|move|moves|go|goes)"
                 rf" at ({_N} ?{_SPEED_UNIT}) or (?:more|faster|above|higher)\b"), r"faster than \1"),
+    # "creeping through an intersection at under 3 m/s": the moving one is slower than that
+    (re.compile(rf"\b(\w+ing (?:through|across|into|along|past|around|on|in) (?:an?|the) [\w ]+?)"
+                rf" at (?:under|less than|below) (?=({_N}) ?{_SPEED_UNIT}\b)"), r"\1 slower than "),
+    # "stopped or parked trucks", "stopped trucks or parked trucks": trucks in either state
+    (re.compile(rf"\b({_STATE}) ({CATEGORY_RE}) or ({_STATE}) \2\b"), r"\2 that are \1 or \3"),
+    (re.compile(rf"\b({_STATE}) or ({_STATE}) ({CATEGORY_RE})\b"), r"\3 that are \1 or \2"),
+    # "..., parked ones excluded", "but not the parked ones": the state they are not in
+    (re.compile(rf",? (?:with )?(?:the )?({_STATE}) ones (?:excluded|not included|left out|removed)\b"),
+     r" that are not \1"),
+    (re.compile(rf",? (?:but not|except|excluding|without) (?:the )?({_STATE}) ones\b"), r" that are not \1"),
+    (re.compile(rf"\s*[;,.]? (?:the |any )?({_STATE}) (?:{CATEGORY_RE}|ones) (?:are|is|were|being) "
+                r"(?:excluded|not included"
+                r"|left out|removed|ignored)\b"), r" that are not \1"),
     (re.compile(r"\b(?:in )?either direction\s*$"), ""),
     # a chart's note on what it plots ("- events per day", "[count per log]", "heat map")
     (re.compile(rf"(?:\s*[-–—:,]?\s*\[?{_CHART}\]?)+\s*$"), ""),

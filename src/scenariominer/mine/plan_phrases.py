@@ -406,6 +406,12 @@ PHRASES: tuple[Phrase, ...] = (
            "being_crossed_by", "in_direction='clockwise'", "forward"),
     Phrase(r"being crossed (?:in front )?from " + _ITS + r"right to " + _ITS + r"left by {obj}",
            "being_crossed_by", "in_direction='counterclockwise'", "forward"),
+    Phrase(r"(?:being )?crossed (?:in front )?by {obj} (?:walking |running |moving |going |cycling )?from "
+           + _ITS + r"left to " + _ITS + r"right(?: in front(?: of (?:it|them))?)?",
+           "being_crossed_by", "in_direction='clockwise'", "forward"),
+    Phrase(r"(?:being )?crossed (?:in front )?by {obj} (?:walking |running |moving |going |cycling )?from "
+           + _ITS + r"right to " + _ITS + r"left(?: in front(?: of (?:it|them))?)?",
+           "being_crossed_by", "in_direction='counterclockwise'", "forward"),
     # ... on one side: the other road user crosses the line of its left or right side
     Phrase(r"being crossed (?:on|at|from) (?:the|its|their) (?P<dir>left|right)(?: side)? by {obj}",
            "being_crossed_by", direction="{dir}"),

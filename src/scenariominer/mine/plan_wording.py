@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import re
 
+from scenariominer.mine.plan_coaching import coaching_remark
+from scenariominer.mine.plan_commit import commit_message
 from scenariominer.mine.plan_documents import camel_words, document_wording
 from scenariominer.mine.plan_everyday import everyday_wording
 from scenariominer.mine.plan_filters import filter_wording
@@ -31,10 +33,13 @@ from scenariominer.mine.plan_plain import plain_wording
 from scenariominer.mine.plan_quantifiers import quantified_set
 from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
+from scenariominer.mine.plan_scenic import scenic_program
 from scenariominer.mine.plan_sets import set_wording
 from scenariominer.mine.plan_spelling import corrected_spelling
+from scenariominer.mine.plan_spoken import spoken_request
 from scenariominer.mine.plan_steps import procedure_wording
 from scenariominer.mine.plan_telegram import telegram_wording
+from scenariominer.mine.plan_translated import translated_wording
 from scenariominer.mine.plan_witness import witness_wording
 from scenariominer.mine.plan_yaml import yaml_block
 
@@ -303,11 +308,16 @@ def normalised_text(description: str) -> str:
         camel_words(
             logic_rule(
                 quantified_set(
-                    spreadsheet_formula(graph_pattern(telegram_wording(procedure_wording(description))))
+                    spreadsheet_formula(
+                        graph_pattern(
+                            telegram_wording(procedure_wording(commit_message(scenic_program(description))))
+                        )
+                    )
                 )
             )
         ).lower()
     )
+    text = spoken_request(coaching_remark(translated_wording(text)))
     text = witness_wording(methods_wording(document_wording(" ".join(yaml_block(text).split()))))
     text = request_sentence(set_wording(text))
     text = present_tense(
