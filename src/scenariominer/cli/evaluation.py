@@ -402,7 +402,7 @@ def nl2prog(
         typer.Option(
             "--split",
             help="Descriptions to score: holdout, published (RefAV's wording, held out), challenge "
-            "(the AV2 2025 challenge's wording, held out), fresh ... fresh91 (others' wording, each held "
+            "(the AV2 2025 challenge's wording, held out), fresh ... fresh99 (others' wording, each held "
             "out and scored once), dev or all.",
         ),
     ] = "holdout",

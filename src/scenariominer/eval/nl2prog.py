@@ -201,6 +201,14 @@ SPLITS: tuple[str, ...] = (
     "fresh89",
     "fresh90",
     "fresh91",
+    "fresh92",
+    "fresh93",
+    "fresh94",
+    "fresh95",
+    "fresh96",
+    "fresh97",
+    "fresh98",
+    "fresh99",
 )
 
 #: The splits held out from tuning: never few-shot examples, never read while writing prompts or rules.
