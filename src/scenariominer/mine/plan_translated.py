@@ -31,7 +31,8 @@ _RULES: tuple[tuple[str, str], ...] = (
     (r"\bload[- ]?cars?\b|\bfreight cars?\b|\blorr(?:y|ies)\b", "trucks"),
     (r"\bomnibus(?:es)?\b", "bus"),
     (r"\bnormal (?:passenger )?cars?\b", "regular vehicles"),
-    (r"\b(?:(?:the|our|your|my) )?own (?:car|vehicle)\b|\bself[- ]car\b|\bhost (?:car|vehicle)\b", "the ego vehicle"),
+    (r"\b(?:(?:the|our|your|my) )?own (?:car|vehicle)\b|\bself[- ]car\b|\bhost (?:car|vehicle)\b",
+     "the ego vehicle"),
     (r"\b(?:the |a )?crossroads?(?: area)?(?: itself)?\b", "an intersection"),
     (r"\bthe lane dedicated (?:for|to) (?:the )?bus(?:es)?\b|\bthe bus-?dedicated lane\b", "a bus lane"),
     # units written out literally

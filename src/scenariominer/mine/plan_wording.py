@@ -31,6 +31,7 @@ from scenariominer.mine.plan_notes import plain_notes
 from scenariominer.mine.plan_nouns import CATEGORY_RE, DETERMINER, MODIFIER_RE, NOUN, NOUN_PHRASE, NP, SUBJECT
 from scenariominer.mine.plan_plain import plain_wording
 from scenariominer.mine.plan_quantifiers import quantified_set
+from scenariominer.mine.plan_query_api import query_api_request
 from scenariominer.mine.plan_registers import register_wording, request_sentence
 from scenariominer.mine.plan_rewordings import _CLEAR_ROAD, _REWORDINGS, _SHARED_VERB
 from scenariominer.mine.plan_scenic import scenic_program
@@ -310,7 +311,11 @@ def normalised_text(description: str) -> str:
                 quantified_set(
                     spreadsheet_formula(
                         graph_pattern(
-                            telegram_wording(procedure_wording(commit_message(scenic_program(description))))
+                            telegram_wording(
+                                procedure_wording(
+                                    commit_message(scenic_program(query_api_request(description)))
+                                )
+                            )
                         )
                     )
                 )
