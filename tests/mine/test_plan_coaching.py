@@ -20,6 +20,8 @@ from scenariominer.mine.plan_coaching import coaching_remark
         ("Mind the construction cones on the road, don't clip them.", ["on_road(subject, log_dir)"]),
         ("Check your mirror for any truck directly behind you within 15 metres.", ["within_distance=15"]),
         ("Give every pedestrian out on the road plenty of room.", ["category='PEDESTRIAN'", "on_road("]),
+        # "right" before "on the" is a turn's direction after a turning verb
+        ("Be careful of buses turning right while they are on the crosswalk.", ["direction='right'"]),
         # the situation first, the advice after it
         (
             "Whenever you are following a truck in your lane, stay well back.",

@@ -73,7 +73,10 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:yourself|themselves)\b"), ""),
     (re.compile(r"\bwhile they are (?=on|in|at|near)\b"), ""),
     # "doing over 54 km/h": moving faster than that
-    (re.compile(r"\bright (?=(?:on|in|at) the\b)"), ""),
+    (
+        re.compile(r"(?<!turns )(?<=[a-z]s )right (?=(?:on|in|at) the\b)"),
+        "",
+    ),  # "pedestrians right on the crossing"
     (re.compile(r"\b(?:along|on|in|down) (?:this|that) (?:street|road|stretch)\b"), ""),
     (
         re.compile(
