@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 from plan_checks import assert_program_has
 
+from scenariominer.mine.plan_reader import read_plan
 from scenariominer.mine.plan_scenic import scenic_program
 
 
@@ -78,9 +79,29 @@ def test_the_object_found_is_worded_with_what_is_said_of_it() -> None:
     [
         "vehicles turning left; pedestrians nearby",  # no object created
         "car = new Car; find bus",  # the object found was never created
-        "car = new Car; require car does a barrel roll; find car",  # a condition this reading does not know
-        "x = new Spaceship; find x",  # a class it does not know
     ],
 )
 def test_text_this_reading_does_not_know_comes_back_unchanged(text: str) -> None:
     assert scenic_program(text) == text
+
+
+def test_a_scenic_program_it_cannot_read_is_not_taken_for_its_bare_find() -> None:
+    # "find car" alone would read as every car: the request is left to the model instead
+    program = "car = new Car; require car does a barrel roll; find car"
+    assert scenic_program(program) == "car = new Car; require car does a barrel roll"
+    assert read_plan(program) is None
+    assert scenic_program("x = new Spaceship; find x") == "x = new Spaceship"  # a class it does not know
+
+
+@pytest.mark.parametrize(
+    ("program", "calls"),
+    [
+        ("bus = new Bus; require bus turns left; find bus", ["turning(subject, log_dir, direction='left')"]),
+        (
+            "t = new Truck; require t changes lanes to the right; find t",
+            ["changing_lanes(subject, log_dir, direction='right')"],
+        ),
+    ],
+)
+def test_a_condition_on_the_action_is_read(program: str, calls: list[str]) -> None:
+    assert_program_has(program, calls)

@@ -126,7 +126,9 @@ def scenic_program(description: str) -> str:
         if var not in scene.kinds:
             return description
     except Unreadable:
-        return description
+        # a Scenic program with a statement this reading does not know: without its "find x", so
+        # that no other reader takes the bare name of the object for the whole request
+        return "; ".join(statements[:-1])
     kind = "ego vehicle" if var.lower() == "ego" else scene.kinds[var]
     words = [w for w in scene.words[var] if w]
     for subject, relation, other in scene.links:
@@ -260,6 +262,14 @@ def _require(cond: str, scene: _Scene) -> None:
         scene.say(match["var"], "parked" if match["state"] != "stopped" else "stopped")
     elif match := re.match(rf"^(?P<var>{_NAME}) is not (?P<what>turning|moving|parked|stopped)$", cond):
         scene.say(match["var"], f"not {match['what']}")
+    elif match := re.match(rf"^(?P<var>{_NAME}) (?:is )?(?:turns|turning) (?P<side>left|right)$", cond):
+        scene.say(match["var"], f"turning {match['side']}")
+    elif match := re.match(
+        rf"^(?P<var>{_NAME}) (?:is )?(?:changes|changing) lanes?(?: to the (?P<side>left|right))?$", cond
+    ):
+        scene.say(match["var"], "changing lanes" + (f" to the {match['side']}" if match["side"] else ""))
+    elif match := re.match(rf"^(?P<var>{_NAME}) is (?P<what>moving|turning)$", cond):
+        scene.say(match["var"], match["what"])
     elif match := re.match(rf"^(?P<var>{_NAME}) (?:walks|moves|drives|heads|is heading|is walking)"
                            r" (?:toward|towards)"
                            rf" (?P<other>{_NAME})$", cond):  # fmt: skip
