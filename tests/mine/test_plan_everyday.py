@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from plan_checks import assert_program_has
 
-from scenariominer.mine.plan_everyday import everyday_wording
+from scenariominer.mine.plan_everyday import everyday_wording, figure_marks
 
 
 @pytest.mark.parametrize(
@@ -83,3 +83,41 @@ def test_a_headline_is_read_in_full(headline: str, calls: list[str]) -> None:
 )
 def test_a_defined_term_is_read_as_what_it_means(definition: str, calls: list[str]) -> None:
     assert_program_has(definition, calls)
+
+
+@pytest.mark.parametrize(
+    ("caption", "calls"),
+    [
+        (
+            "Fig. 3: Buses turning left at an intersection (highlighted in red).",
+            ["category='BUS'", "direction='left'"],
+        ),
+        (
+            "Figure 6: Trucks moving along the road (yellow boxes).",
+            ["has_velocity(subject, log_dir, min_velocity=0.5)"],
+        ),
+        (
+            "Fig. 9: Parked box trucks that remain in place for the whole recording, drawn as grey boxes.",
+            ["stationary("],
+        ),
+        ("Fig. 11: Bollards on the road (examples).", ["category='BOLLARD'", "on_road("]),
+        (
+            "Fig. 14: Cyclists in a small group, each with at least two other bicycles within 3 m.",
+            ["min_objects=2"],
+        ),
+        (
+            "Fig. 15: Buses whose path is crossed by a pedestrian walking in front of them.",
+            ["being_crossed_by("],
+        ),
+        # "stopped or parked": either state
+        ("Fig. 16: Stopped or parked trucks.", ["stationary(subject, log_dir)", "max_velocity=0.5"]),
+    ],
+)
+def test_a_figure_caption_is_read_without_its_marks(caption: str, calls: list[str]) -> None:
+    assert_program_has(caption, calls)
+
+
+def test_figure_marks_are_dropped_and_other_colours_kept() -> None:
+    assert figure_marks("parked bicycles (green boxes)") == "parked bicycles"
+    assert figure_marks("cars turning right (highlighted in orange).") == "cars turning right."
+    assert figure_marks("a red car turning left") == "a red car turning left"

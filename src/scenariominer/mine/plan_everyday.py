@@ -16,7 +16,7 @@ import re
 
 from scenariominer.mine.plan_nouns import CATEGORY_RE, NP
 
-__all__ = ["everyday_wording"]
+__all__ = ["everyday_wording", "figure_marks"]
 
 _N = r"\d+(?:\.\d+)?"
 _METRES = r"(?:m|metres?|meters?)"
@@ -32,6 +32,11 @@ _CHART = (
 #: A defined term and the words before what it means ("'Crowded Vehicle' means any").
 _DEFINED = r"'[^']+'\s+(?:means|shall mean|refers to|denotes|is defined as)\s+(?:any|each|every|all|an?)"
 _SPEED_UNIT = r"(?:m/s|km/h|mph|metres? per second|meters? per second)"
+#: The colours and marks of a figure ("red boxes", "blue trajectories").
+_COLOUR = r"(?:(?:light|dark|bright) )?(?:red|blue|green|orange|purple|yellow|gr[ae]y|black|white|cyan|pink)"
+_MARKS = (
+    r"(?:boxes|box|trajectories|trajectory|dots|points|lines|tracks|outlines|markers|arrows|circles|polygons)"
+)
 #: A state a road user is found in ("parked", "stopped").
 _STATE = r"(?:stopped|parked|stationary|moving|stopping|turning)"
 
@@ -123,6 +128,14 @@ _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(rf"\s*[;,.]? (?:the |any )?({_STATE}) (?:{CATEGORY_RE}|ones) (?:are|is|were|being) "
                 r"(?:excluded|not included"
                 r"|left out|removed|ignored)\b"), r" that are not \1"),
+    (re.compile(r"\bbeing crossed by (an?|the) ([\w ]+?) (?:passing|walking|moving|crossing|going) in front"
+                r" of (them|it)\b"), r"with \1 \2 crossing in front of \3"),
+    # "that remain in place for the entire sequence": stationary
+    (re.compile(r"\b(?:that |which )?(?:remains?|stays?|stayed|remained) (?:in place|put|still|stationary)"
+                r"(?: for| during| over| throughout)? (?:the )?(?:entire|whole|full)"
+                r" (?:sequence|log|recording|clip|scene|drive)\b"), "that are stationary"),
+    # "pedestrians in a tight group, each with at least 2 others within 2 m": the count says the group
+    (re.compile(r"\bin an? (?:tight |close |small |large )?(?:group|cluster|crowd),? each with\b"), "with"),
     (re.compile(r"\b(?:in )?either direction\s*$"), ""),
     # a chart's note on what it plots ("- events per day", "[count per log]", "heat map")
     (re.compile(rf"(?:\s*[-–—:,]?\s*\[?{_CHART}\]?)+\s*$"), ""),
@@ -143,3 +156,26 @@ def everyday_wording(text: str) -> str:
     for pattern, replacement in _REWRITES:
         text = pattern.sub(replacement, text)
     return " ".join(text.split())
+
+
+#: A figure's marks: "(highlighted in orange)", "(blue boxes)", ", drawn as gray boxes", "(jaywalking
+#: examples)": how the figure shows the road users, not which ones.
+_FIGURE_MARKS = (
+    re.compile(
+        rf",?\s*\(?\b(?:highlighted|shown|drawn|marked|outlined|rendered|plotted|depicted|colou?red)"
+        rf" (?:in|as|with) {_COLOUR}(?: {_MARKS})?\b\)?"
+    ),
+    re.compile(rf"\s*\(\s*{_COLOUR} {_MARKS}\s*\)|\s*\b{_COLOUR} {_MARKS}\b"),
+    re.compile(r"\s*\((?:[\w -]+ )?examples?\)"),
+)
+
+
+def figure_marks(text: str) -> str:
+    """``text`` without the words that say how a figure shows the road users.
+
+    "regular vehicles executing a right turn (highlighted in orange)" -> "regular vehicles
+    executing a right turn"; "parked bicycles (green boxes)" -> "parked bicycles".
+    """
+    for pattern in _FIGURE_MARKS:
+        text = pattern.sub("", text)
+    return text

@@ -16,7 +16,7 @@ import re
 from scenariominer.mine.plan_coaching import coaching_remark
 from scenariominer.mine.plan_commit import commit_message
 from scenariominer.mine.plan_documents import camel_words, document_wording
-from scenariominer.mine.plan_everyday import everyday_wording
+from scenariominer.mine.plan_everyday import everyday_wording, figure_marks
 from scenariominer.mine.plan_filters import filter_wording
 from scenariominer.mine.plan_formal import formal_wording
 from scenariominer.mine.plan_formula import spreadsheet_formula
@@ -322,7 +322,7 @@ def normalised_text(description: str) -> str:
             )
         ).lower()
     )
-    text = spoken_request(coaching_remark(translated_wording(text)))
+    text = spoken_request(coaching_remark(translated_wording(figure_marks(text))))
     text = witness_wording(methods_wording(document_wording(" ".join(yaml_block(text).split()))))
     text = request_sentence(set_wording(text))
     text = present_tense(
