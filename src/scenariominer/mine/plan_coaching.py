@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import re
 
-from scenariominer.mine.plan_nouns import CATEGORY_RE
-
 __all__ = ["coaching_remark"]
 
 #: "watch out for", "keep an eye on", "mind", "be careful of": the words that point at a road user.
@@ -57,16 +55,12 @@ _OWN_DRIVING = re.compile(
 _ADVICE = re.compile(
     r"(?:,\s*|\s+-\s+|\s+and (?=give|slow|stay|keep|let|be|brake|hold|leave|wait|ease)\b)"
     r"(?:they|it|he|she|someone|somebody|any of them|that is|that's|those are|these are|this is|there"
-    r"|don't|do not|never|be|slow|stay|give|you|so|because|as|in case|whatever|all of them|give"
+    r"|don't|do not|never|be|slow|stay|give|you|so|because|as|in case|whatever|all of them"
     r"|let|leave|wait|ease|brake|keep|hold|the ones|which|especially)\b.*$"
     r"|\s+(?:when|as|while|before|if|so) (?:you|we)\b.*$"
 )
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\b(?:your|our) (?:own )?(?:car|vehicle)\b"), "the ego vehicle"),
-    (
-        re.compile(rf"\b((?:{CATEGORY_RE})) (?:that |which )?(?:you|we) (?:are|were|is|was) following\b"),
-        r"\1 being followed by the ego vehicle",
-    ),
     (re.compile(r"\b(?:out|up|over) (?=on the (?:road|pavement|sidewalk|street|pedestrian crossing)\b)"), ""),
     (re.compile(r"\bthe (road|street|crossing|intersection|crosswalk) itself\b"), r"the \1"),
     (re.compile(r",? (?:along|around|round|near|through|up) here\b"), ""),

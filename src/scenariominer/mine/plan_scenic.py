@@ -171,7 +171,6 @@ def _create(var: str, rest: str, scene: _Scene) -> None:
     scene.kinds[var] = " or ".join(c for c in classes if c)
     scene.words[var] = []
     specifiers = _CLASS.sub("", rest).replace(" or ", " ").strip()
-    specifiers = re.sub(r"^new\s*", "", specifiers)
     for spec in (
         s.strip() for s in re.split(r",(?![^()]*\))|\s+(?=with behavior\b)", specifiers) if s.strip()
     ):

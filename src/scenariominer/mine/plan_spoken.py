@@ -55,9 +55,11 @@ _SCOPE = re.compile(
     r"(?= *(?:[?.!,]|$))"
 )
 _REWRITES: tuple[tuple[re.Pattern[str], str], ...] = (
-    # "the vehicle we were following": the one the ego vehicle follows
+    # "the vehicle we were following", "the car you are following": the one the ego vehicle follows
     (
-        re.compile(rf"\b((?:{CATEGORY_RE})) (?:that |which )?we (?:were|are|was) (?:following|behind)\b"),
+        re.compile(
+            rf"\b((?:{CATEGORY_RE})) (?:that |which )?(?:we|you) (?:were|are|was|is) (?:following|behind)\b"
+        ),
         r"\1 being followed by the ego vehicle",
     ),
     # "from less than 20 meters away": within 20 m
